@@ -1,0 +1,281 @@
+"""The ACL gait of Chen & Roth (Eq. 1-5) and the rolling helix of Zhen, Gong & Choset (2015).
+
+Joint conventions are those of :mod:`acl_env.gait.kinematics`: head joint first, even joints
+dorsal (about the link's y axis), odd joints lateral (about z), joint ``j`` at arc length
+``(j + 1) l`` from the head tip. The pole axis is z and the backbone starts (head) at ``t = 0``
+and rises with ``t``: the head is the lowest end, and climbing is motion toward the tail (+z).
+
+Both gaits are periodic in ``phase`` (cycles). ``phi_0`` rolls the body once per cycle times
+``rolls_per_cycle`` (DESIGN.md section 1); its sign is chosen so that a positive roll rate climbs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from acl_env.gait.curves import (
+    PitchVaryingHelix,
+    bellows_integrals,
+    points_at_arclength,
+    sample_curve,
+    surface_frame_offset,
+)
+from acl_env.gait.kinematics import count_body_rolls
+
+SEA_MODULE_LENGTH = 0.0639  # m, joint to joint
+SEA_MODULE_DIAMETER = 0.0508  # m
+JOINT_LIMIT = 0.5 * np.pi  # rad, +-90 deg
+# phi_0 = ROLL_SIGN * 2 pi * rolls_per_cycle * phase: with this sign the body rolls so that the
+# snake moves toward its tail, i.e. up the pole (checked in MuJoCo, tests/test_env.py).
+ROLL_SIGN = -1.0
+
+# Defaults for the 20-joint SEA snake on a 0.075 m pole. The contact radius of the backbone
+# (pole + module radius) is 0.1004 m; the helix is commanded 0.8 cm tighter, and the jointed
+# chain sits a further ~1 cm inside the curve, so the series springs squeeze the pole (DESIGN.md
+# section 3). The pitch (rise per turn, 0.10 m) is two module diameters: adjacent turns never
+# touch, and the 1.34 m body makes about 2.3 turns. Omega = 2 inches (Omega = 1 only tilts the
+# helix); A_p = 1 cm keeps every joint inside +-90 deg and the chain within 1.3 cm rms of the
+# curve (a 2 cm wave pushes the chain's fit past 1.5 cm).
+DEFAULT_POLE_RADIUS = 0.075
+DEFAULT_SQUEEZE = 0.008
+DEFAULT_RADIUS = DEFAULT_POLE_RADIUS + 0.5 * SEA_MODULE_DIAMETER - DEFAULT_SQUEEZE
+DEFAULT_PITCH = 0.10
+DEFAULT_AMP_PITCH = 0.01
+
+
+@dataclass(frozen=True)
+class Saturation:
+    """How much of the keyframe table hit the +-90 deg joint limit."""
+
+    keyframe_fraction: float  # keyframes with at least one clipped joint
+    sample_fraction: float  # clipped (keyframe, joint) entries
+    max_excess: float  # largest |angle| - limit before clipping (rad), 0 if none
+
+
+def _check_finite(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = _check_finite(name, value)
+    if value <= 0.0:
+        raise ValueError(f"{name} must be positive, got {value}")
+    return value
+
+
+class Gait:
+    """Shared machinery: validation, roll offset, clipping, the cached keyframe table."""
+
+    def __init__(
+        self,
+        n_joints: int,
+        module_length: float,
+        radius: float,
+        pitch: float,
+        rolls_per_cycle: float,
+        steps_per_cycle: int,
+        module_diameter: float = SEA_MODULE_DIAMETER,
+    ) -> None:
+        if int(n_joints) != n_joints or n_joints < 3:
+            raise ValueError(f"n_joints must be an integer >= 3, got {n_joints}")
+        if int(steps_per_cycle) != steps_per_cycle or steps_per_cycle < 2:
+            raise ValueError(f"steps_per_cycle must be an integer >= 2, got {steps_per_cycle}")
+        self.n_joints = int(n_joints)
+        self.steps_per_cycle = int(steps_per_cycle)
+        self.module_length = _check_positive("module_length", module_length)
+        self.module_diameter = _check_positive("module_diameter", module_diameter)
+        self.radius = _check_positive("radius", radius)
+        self.pitch = _check_positive("pitch", pitch)
+        if self.pitch < self.module_diameter:
+            raise ValueError(
+                f"pitch must be at least one module diameter ({self.module_diameter} m) so that "
+                f"adjacent turns do not collide, got {self.pitch}"
+            )
+        self.rolls_per_cycle = _check_finite("rolls_per_cycle", rolls_per_cycle)
+        self.joint_limit = JOINT_LIMIT
+
+    @property
+    def body_length(self) -> float:
+        """Head tip to tail tip (m): ``(n_joints + 1)`` modules."""
+        return (self.n_joints + 1) * self.module_length
+
+    @property
+    def joint_arclengths(self) -> np.ndarray:
+        """Arc length of each joint from the head tip (m)."""
+        return self.module_length * np.arange(1, self.n_joints + 1)
+
+    def roll_offset(self, phase: np.ndarray) -> np.ndarray:
+        """phi_0 (rad): ``rolls_per_cycle`` body rolls per cycle (Eq. 4-5)."""
+        return ROLL_SIGN * 2.0 * np.pi * self.rolls_per_cycle * np.asarray(phase, dtype=float)
+
+    def raw_angles(self, phases: np.ndarray) -> np.ndarray:
+        """Unclipped joint angles, shape ``(len(phases), n_joints)``."""
+        raise NotImplementedError
+
+    def backbones(self, phases: np.ndarray) -> np.ndarray:
+        """Backbone points at the joints' arc lengths, shape ``(len(phases), n_joints, 3)``."""
+        raise NotImplementedError
+
+    def joint_angles(self, phase: float) -> np.ndarray:
+        """Joint angles (rad) at ``phase`` (cycles), head joint first, clipped to +-90 deg."""
+        phase = _check_finite("phase", phase)
+        raw = self.raw_angles(np.array([phase]))[0]
+        return np.clip(raw, -self.joint_limit, self.joint_limit)
+
+    def backbone(self, phase: float) -> np.ndarray:
+        """Target curve points (m) at the joints' arc lengths, shape ``(n_joints, 3)``, pole = z."""
+        return self.backbones(np.array([_check_finite("phase", phase)]))[0]
+
+    @cached_property
+    def _raw_cycle(self) -> np.ndarray:
+        return self.raw_angles(np.arange(self.steps_per_cycle) / self.steps_per_cycle)
+
+    def cycle(self) -> np.ndarray:
+        """Keyframe table ``(steps_per_cycle, n_joints)``, row k at phase k / steps_per_cycle."""
+        return self._cycle
+
+    @cached_property
+    def _cycle(self) -> np.ndarray:
+        table = np.clip(self._raw_cycle, -self.joint_limit, self.joint_limit)
+        table.setflags(write=False)
+        return table
+
+    @cached_property
+    def saturation(self) -> Saturation:
+        """Share of the cycle that the +-90 deg joint limit clips."""
+        excess = np.abs(self._raw_cycle) - self.joint_limit
+        return Saturation(
+            keyframe_fraction=float(np.mean(np.any(excess > 0, axis=1))),
+            sample_fraction=float(np.mean(excess > 0)),
+            max_excess=float(max(excess.max(), 0.0)),
+        )
+
+    def measured_rolls_per_cycle(self) -> float:
+        """Body rolls over one cycle relative to the pole, measured by FK (not the command)."""
+        phases = np.arange(self.steps_per_cycle) / self.steps_per_cycle
+        return count_body_rolls(self.cycle(), self.backbones(phases), self.module_length)
+
+
+class RollingHelixGait(Gait):
+    """Rolling helix, closed form (Zhen, Gong & Choset, ICRA 2015).
+
+    For x = r cos t, y = r sin t, z = b t: kappa = r / (r^2 + b^2), tau = b / (r^2 + b^2),
+    amplitude A = 2 kappa sin(tau l) / tau; dorsal joint ``j`` = A cos(phi_0 + tau l (j + 1)),
+    lateral joint ``j`` = A sin(phi_0 + tau l (j + 1)).
+    """
+
+    def __init__(
+        self,
+        n_joints: int = 20,
+        module_length: float = SEA_MODULE_LENGTH,
+        radius: float = DEFAULT_RADIUS,
+        pitch: float = DEFAULT_PITCH,
+        rolls_per_cycle: float = 1.0,
+        steps_per_cycle: int = 220,
+        module_diameter: float = SEA_MODULE_DIAMETER,
+    ) -> None:
+        super().__init__(
+            n_joints, module_length, radius, pitch, rolls_per_cycle, steps_per_cycle, module_diameter
+        )
+        b = self.pitch / (2.0 * np.pi)
+        self.kappa = self.radius / (self.radius**2 + b**2)
+        self.tau = b / (self.radius**2 + b**2)
+        self.amplitude = 2.0 * self.kappa * np.sin(self.tau * self.module_length) / self.tau
+
+    def raw_angles(self, phases: np.ndarray) -> np.ndarray:
+        arg = self.roll_offset(phases)[:, None] + self.tau * self.joint_arclengths
+        return np.where(
+            np.arange(self.n_joints) % 2 == 0,
+            self.amplitude * np.cos(arg),
+            self.amplitude * np.sin(arg),
+        )
+
+    def backbones(self, phases: np.ndarray) -> np.ndarray:
+        b = self.pitch / (2.0 * np.pi)
+        t = self.joint_arclengths / np.hypot(self.radius, b)
+        pts = np.stack([self.radius * np.cos(t), self.radius * np.sin(t), b * t], axis=-1)
+        return np.broadcast_to(pts, (len(np.atleast_1d(phases)), *pts.shape)).copy()
+
+
+class ACLGait(Gait):
+    """Arboreal Concertina Locomotion: the pitch-varying helix of Eq. 1 by curvature integration.
+
+    The backbone (Eq. 1; Eq. 2 when ``amp_radial = 0``) is sampled per phase; kappa and tau are
+    computed numerically and the joint angles follow the bellows model (Eq. 3-5), rotated by
+    phi_0. ``rolls_per_cycle`` counts body rolls relative to the pole surface: the roll of the
+    Frenet frame itself, which a modulated helix can hide (DESIGN.md), is compensated in phi_0, so
+    ``rolls_per_cycle=0`` is a gait that truly does not roll and 1 is the paper's rolling ACL.
+    With ``amp_pitch = amp_radial = 0`` the compensation vanishes and this is the rolling helix.
+
+    Args:
+        radius: backbone helix radius r (m).
+        pitch: rise per turn, 2 pi p (m).
+        amp_pitch: axial wave amplitude A_p (m).
+        spatial_freq: Omega, axial waves per turn.
+        amp_radial: radial wave amplitude A_r (m), 0 in the paper's Eq. 2.
+        radial_freq: k_r, radial waves per turn.
+        n_samples: grid points of t for the numerical curvature integration.
+    """
+
+    def __init__(
+        self,
+        n_joints: int = 20,
+        module_length: float = SEA_MODULE_LENGTH,
+        radius: float = DEFAULT_RADIUS,
+        pitch: float = DEFAULT_PITCH,
+        amp_pitch: float = DEFAULT_AMP_PITCH,
+        spatial_freq: float = 2.0,
+        amp_radial: float = 0.0,
+        radial_freq: float = 2.0,
+        rolls_per_cycle: float = 1.0,
+        steps_per_cycle: int = 220,
+        module_diameter: float = SEA_MODULE_DIAMETER,
+        n_samples: int = 300,
+    ) -> None:
+        super().__init__(
+            n_joints, module_length, radius, pitch, rolls_per_cycle, steps_per_cycle, module_diameter
+        )
+        amp_pitch = _check_finite("amp_pitch", amp_pitch)
+        amp_radial = _check_finite("amp_radial", amp_radial)
+        if amp_pitch < 0.0:
+            raise ValueError(f"amp_pitch must be >= 0, got {amp_pitch}")
+        if not 0.0 <= amp_radial < self.radius:
+            raise ValueError(f"amp_radial must be in [0, radius={self.radius}), got {amp_radial}")
+        if int(n_samples) != n_samples or n_samples < 100:
+            raise ValueError(f"n_samples must be an integer >= 100, got {n_samples}")
+        self.curve = PitchVaryingHelix(
+            radius=self.radius,
+            pitch=self.pitch,
+            amp_pitch=amp_pitch,
+            spatial_freq=_check_finite("spatial_freq", spatial_freq),
+            amp_radial=amp_radial,
+            radial_freq=_check_finite("radial_freq", radial_freq),
+        )
+        self.n_samples = int(n_samples)
+        self._frame_offset_0 = float(
+            surface_frame_offset(self._samples(np.zeros(1)), self.body_length)[0]
+        )
+
+    def _samples(self, phases: np.ndarray):
+        return sample_curve(self.curve, phases, self.body_length, self.n_samples)
+
+    def raw_angles(self, phases: np.ndarray) -> np.ndarray:
+        phases = np.atleast_1d(np.asarray(phases, dtype=float))
+        samples = self._samples(phases)
+        c, s = bellows_integrals(samples, self.n_joints, self.module_length)
+        hidden = surface_frame_offset(samples, self.body_length) - self._frame_offset_0
+        phi0 = (self.roll_offset(phases) + hidden)[:, None]
+        dorsal = np.cos(phi0) * c - np.sin(phi0) * s  # Eq. 5
+        lateral = np.sin(phi0) * c + np.cos(phi0) * s  # Eq. 4
+        return np.where(np.arange(self.n_joints) % 2 == 0, dorsal, lateral)
+
+    def backbones(self, phases: np.ndarray) -> np.ndarray:
+        samples = self._samples(np.atleast_1d(np.asarray(phases, dtype=float)))
+        return points_at_arclength(samples, self.joint_arclengths)

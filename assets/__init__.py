@@ -1,0 +1,1 @@
+"""MJCF templates of the SEA snake and the pole scene, shipped as package data."""

@@ -31,7 +31,7 @@ SEA_MODULE_DIAMETER = 0.0508  # m
 JOINT_LIMIT = 0.5 * np.pi  # rad, +-90 deg
 # phi_0 = ROLL_SIGN * 2 pi * rolls_per_cycle * phase: with this sign the body rolls so that the
 # snake moves toward its tail, i.e. up the pole (checked in MuJoCo, tests/test_env.py).
-ROLL_SIGN = -1.0
+ROLL_SIGN = 1.0
 
 # Defaults for the 20-joint SEA snake on a 0.075 m pole. The contact radius of the backbone
 # (pole + module radius) is 0.1004 m; the helix is commanded 0.8 cm tighter, and the jointed
@@ -70,6 +70,13 @@ def _check_positive(name: str, value: float) -> float:
     return value
 
 
+def _check_int(name: str, value: float, minimum: int) -> int:
+    """An integer-valued ``value >= minimum``; NaN and inf fail with a message naming ``name``."""
+    if not (math.isfinite(float(value)) and int(value) == value and value >= minimum):
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value}")
+    return int(value)
+
+
 class Gait:
     """Shared machinery: validation, roll offset, clipping, the cached keyframe table."""
 
@@ -83,12 +90,8 @@ class Gait:
         steps_per_cycle: int,
         module_diameter: float = SEA_MODULE_DIAMETER,
     ) -> None:
-        if int(n_joints) != n_joints or n_joints < 3:
-            raise ValueError(f"n_joints must be an integer >= 3, got {n_joints}")
-        if int(steps_per_cycle) != steps_per_cycle or steps_per_cycle < 2:
-            raise ValueError(f"steps_per_cycle must be an integer >= 2, got {steps_per_cycle}")
-        self.n_joints = int(n_joints)
-        self.steps_per_cycle = int(steps_per_cycle)
+        self.n_joints = _check_int("n_joints", n_joints, 3)
+        self.steps_per_cycle = _check_int("steps_per_cycle", steps_per_cycle, 2)
         self.module_length = _check_positive("module_length", module_length)
         self.module_diameter = _check_positive("module_diameter", module_diameter)
         self.radius = _check_positive("radius", radius)
@@ -99,6 +102,12 @@ class Gait:
                 f"adjacent turns do not collide, got {self.pitch}"
             )
         self.rolls_per_cycle = _check_finite("rolls_per_cycle", rolls_per_cycle)
+        if self.rolls_per_cycle != round(self.rolls_per_cycle):
+            # phi_0 must return to itself mod 2 pi after one cycle, or phase + 1 != phase and the
+            # keyframe table jumps when it wraps around.
+            raise ValueError(
+                f"rolls_per_cycle must be a whole number for a periodic gait, got {rolls_per_cycle}"
+            )
         self.joint_limit = JOINT_LIMIT
 
     @property
@@ -248,8 +257,7 @@ class ACLGait(Gait):
             raise ValueError(f"amp_pitch must be >= 0, got {amp_pitch}")
         if not 0.0 <= amp_radial < self.radius:
             raise ValueError(f"amp_radial must be in [0, radius={self.radius}), got {amp_radial}")
-        if int(n_samples) != n_samples or n_samples < 100:
-            raise ValueError(f"n_samples must be an integer >= 100, got {n_samples}")
+        n_samples = _check_int("n_samples", n_samples, 100)
         self.curve = PitchVaryingHelix(
             radius=self.radius,
             pitch=self.pitch,

@@ -167,9 +167,14 @@ class Gait:
         )
 
     def measured_rolls_per_cycle(self) -> float:
-        """Body rolls over one cycle relative to the pole, measured by FK (not the command)."""
+        """Body rolls over one cycle relative to the pole, measured by FK (not the command).
+
+        Same sign as ``rolls_per_cycle``: phi_0 growing by 2 pi is one left-handed roll about the
+        head-to-tail axis as :func:`count_body_rolls` counts it, hence the factor ``-ROLL_SIGN``.
+        """
         phases = np.arange(self.steps_per_cycle) / self.steps_per_cycle
-        return count_body_rolls(self.cycle(), self.backbones(phases), self.module_length)
+        rolls = count_body_rolls(self.cycle(), self.backbones(phases), self.module_length)
+        return -ROLL_SIGN * rolls
 
 
 class RollingHelixGait(Gait):

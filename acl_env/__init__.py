@@ -1,0 +1,25 @@
+"""acl_env: a SEA snake robot climbing a pole in MuJoCo, with the ACL gait of Chen & Roth.
+
+Importing the package registers the Gymnasium environments:
+
+* ``acl_env/ACLClimb-v0``: residual control on top of the ACL gait (Eq. 1-5).
+* ``acl_env/RollingHelixClimb-v0``: residual control on top of the rolling helix.
+"""
+
+from gymnasium.envs.registration import register, registry
+
+__version__ = "0.1.0"
+
+_ENVS = {
+    "acl_env/ACLClimb-v0": {"base_gait": "acl"},
+    "acl_env/RollingHelixClimb-v0": {"base_gait": "rolling_helix"},
+}
+
+for _env_id, _kwargs in _ENVS.items():
+    if _env_id not in registry:
+        register(
+            id=_env_id,
+            entry_point="acl_env.envs.acl_climb:ACLClimbEnv",
+            kwargs=_kwargs,
+            max_episode_steps=None,
+        )

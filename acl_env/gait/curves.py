@@ -29,7 +29,7 @@ class PitchVaryingHelix:
     radial_freq: float = 2.0
 
     def derivatives(self, t: np.ndarray, phase: np.ndarray) -> tuple[np.ndarray, ...]:
-        """Curve and its first three derivatives in ``t``, each of shape ``(*phase.shape, *t.shape, 3)``."""
+        """Curve and its first three derivatives in ``t``, each ``(*phase.shape, *t.shape, 3)``."""
         wh = 2.0 * np.pi * np.asarray(phase, dtype=float)[..., None]
         p = self.pitch / (2.0 * np.pi)
         arg_r = self.radial_freq * t + wh
@@ -168,7 +168,10 @@ def surface_frame_offset(samples: CurveSamples, length: float) -> np.ndarray:
     sin = np.sum(np.cross(radial, samples.normal) * samples.tangent, axis=-1)
     cos = np.sum(radial * samples.normal, axis=-1)
     theta = np.unwrap(np.arctan2(sin, cos), axis=-1) - samples.twist
-    mean = _interp_rows(
-        np.array([length]), samples.s, _cumint(theta * samples.speed, samples.dt)
-    )[:, 0] / length
+    mean = (
+        _interp_rows(np.array([length]), samples.s, _cumint(theta * samples.speed, samples.dt))[
+            :, 0
+        ]
+        / length
+    )
     return mean

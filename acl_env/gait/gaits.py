@@ -196,7 +196,13 @@ class RollingHelixGait(Gait):
         module_diameter: float = SEA_MODULE_DIAMETER,
     ) -> None:
         super().__init__(
-            n_joints, module_length, radius, pitch, rolls_per_cycle, steps_per_cycle, module_diameter
+            n_joints,
+            module_length,
+            radius,
+            pitch,
+            rolls_per_cycle,
+            steps_per_cycle,
+            module_diameter,
         )
         b = self.pitch / (2.0 * np.pi)
         self.kappa = self.radius / (self.radius**2 + b**2)
@@ -254,7 +260,13 @@ class ACLGait(Gait):
         n_samples: int = 300,
     ) -> None:
         super().__init__(
-            n_joints, module_length, radius, pitch, rolls_per_cycle, steps_per_cycle, module_diameter
+            n_joints,
+            module_length,
+            radius,
+            pitch,
+            rolls_per_cycle,
+            steps_per_cycle,
+            module_diameter,
         )
         amp_pitch = _check_finite("amp_pitch", amp_pitch)
         amp_radial = _check_finite("amp_radial", amp_radial)

@@ -1,0 +1,542 @@
+"""The SEA snake climbing a pole, with an analytic gait as the residual baseline."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from functools import lru_cache
+from typing import Any, ClassVar
+
+import mujoco
+import numpy as np
+from gymnasium import spaces
+from gymnasium.envs.mujoco import MujocoEnv
+from gymnasium.utils import EzPickle
+
+from acl_env.gait import ACLGait, Gait, RollingHelixGait
+from acl_env.gait.gaits import DEFAULT_SQUEEZE, JOINT_LIMIT, SEA_MODULE_DIAMETER
+from acl_env.gait.kinematics import forward_kinematics, rigid_fit
+from acl_env.model import (
+    IMU_GYRO_SENSOR,
+    IMU_QUAT_SENSOR,
+    POLE_GEOM,
+    SCENE_FILE,
+    TRACK_CAMERA,
+    assets_dir,
+    build_model,
+    link_name,
+    snake_geom_ids,
+)
+
+GAITS: dict[str, type[Gait] | None] = {
+    "acl": ACLGait,
+    "rolling_helix": RollingHelixGait,
+    "none": None,
+}
+DEFAULT_REWARD_WEIGHTS = {"climb": 1.0, "slip": 1.0}
+DEFAULT_RANDOMIZATION = {
+    "pole_radius": (0.065, 0.09),
+    "friction": (0.7, 1.2),
+    "kp": (15.0, 30.0),
+    "mass_scale": (0.9, 1.1),
+    "sensor_noise": 0.01,
+}
+MODULE_RADIUS = 0.5 * SEA_MODULE_DIAMETER
+CONTROL_DT = 0.1  # s: one keyframe at 10 Hz, as on the robot
+SLIP_SAMPLES = 5  # contact velocities are sampled this many times per step (every 20 ms)
+START_CLEARANCE = 0.005  # m between shells and pole when the snake is placed
+START_HEIGHT = 0.3  # m from the floor to the lowest point of the snake at reset
+RAMP_TIME = 0.3  # s to ramp the squeeze in from the placed pose to the first keyframe
+SETTLE_TIME = 0.2  # s holding the first keyframe before the episode starts
+
+
+@lru_cache(maxsize=16)
+def _cached_gait(name: str, items: tuple[tuple[str, Any], ...]) -> Gait:
+    """Gait objects are immutable; their keyframe tables are worth sharing across resets."""
+    gait = GAITS[name](**dict(items))
+    gait.cycle()
+    return gait
+
+
+class ACLClimbEnv(MujocoEnv, EzPickle):
+    """A 20-joint SEA snake climbs a vertical pole; the policy adds residuals to a gait.
+
+    ## Description
+    The CMU SEA snake (module 0.0639 m long, 0.0508 m wide, 0.205 kg, +-90 deg joints, 7 N m) is
+    wrapped around a fixed pole of radius ``pole_radius``. Each step plays one keyframe of the base
+    gait (Chen & Roth's ACL, Eq. 1-5, or the rolling helix) through position servos that stand in
+    for the series springs; the action is a residual on those joint targets. With a zero action
+    this is the open-loop gait of the paper (220 keyframes per cycle at 10 Hz, 22 s per cycle).
+
+    ## Action Space
+    ``Box(-1, 1, (n_joints,), float32)``. Joint ``j`` target (rad) =
+    ``clip(gait(phase)[j] + residual_scale * action[j], -pi/2, pi/2)``. Actions outside [-1, 1]
+    are clipped; NaN or inf raises ``ValueError``. With ``base_gait="none"`` the gait term is 0.
+
+    ## Observation Space
+    What the robot senses (float64, ``n = n_joints``):
+
+    | index | observation | unit |
+    |---|---|---|
+    | 0 .. n-1 | joint angles | rad |
+    | n .. 2n-1 | joint velocities | rad/s |
+    | 2n .. 3n-1 | joint torques (spring deflection x kp) | N m |
+    | 3n .. 3n+3 | head IMU orientation, quaternion (w, x, y, z) | - |
+    | 3n+4 .. 3n+6 | head IMU angular velocity | rad/s |
+    | 3n+7, 3n+8 | cos, sin of the gait phase of the next keyframe | - |
+    | 3n+9 .. 4n+8 | base gait's target angles for the next keyframe | rad |
+    | 4n+9 .. 4n+14 | only with ``privileged_obs``: centre of mass position, velocity | m, m/s |
+
+    ## Rewards
+    ``reward = reward_climb + reward_slip`` with
+    ``reward_climb = w_climb * climb``: rise of the snake's centre of mass along the pole (m), and
+    ``reward_slip = -w_slip * slip``: mean sliding distance of the snake-pole contacts (m), from
+    MuJoCo's contact velocities (tangential ``efc_vel`` rows), sampled 5 times per step. Weights in
+    ``reward_weights`` (default 1 and 1). ``info`` carries every ``reward_<term>``, the raw
+    ``climb`` and ``slip``, ``energy`` (J of positive actuator work), ``com_height``, ``phase``.
+
+    ## Starting State
+    The first keyframe (phase ``k0 / steps_per_cycle``, ``k0`` drawn from the first
+    ``start_phase_range`` of a cycle) is drawn by forward kinematics with a helix loosened until
+    every shell clears the pole by 5 mm, fitted onto that helix (Kabsch), turned by a random yaw
+    about the pole, 0.3 m above the floor, with joint noise of ``reset_noise_scale`` rad. The
+    servos then ramp to the real keyframe (the squeeze) in 0.3 s and hold it 0.2 s. The episode
+    starts from there; it is deterministic per seed.
+
+    ## Episode End
+    Truncation after ``cycles_per_episode`` gait cycles. Termination when the snake *fell*: its
+    centre of mass is ``fall_distance`` below where the episode started, or no shell touched the
+    pole at any sample of a step (``info["fell"]``); or when the physics became *unstable*: a MuJoCo
+    warning or a non-finite state (``info["unstable"]``, the step's reward terms are then 0).
+
+    ## Arguments
+    | argument | default | meaning |
+    |---|---|---|
+    | base_gait | "acl" | "acl", "rolling_helix" or "none" (pure RL ablation) |
+    | gait_kwargs | None | to the gait; ``radius`` defaults to pole + module radius - squeeze |
+    | residual_scale | 0.2 (pi/2 for "none") | rad of joint target per unit action |
+    | n_joints | 20 | joints (modules + 1 links) |
+    | pole_radius | 0.075 | m |
+    | friction | 1.0 | sliding friction of the snake's skin and the pole |
+    | kp | 20.0 | servo stiffness (the series spring), N m/rad |
+    | squeeze | 0.008 | m the gait's helix is commanded inside the contact radius |
+    | steps_per_cycle | 220 | keyframes per gait cycle (one per step, 0.1 s) |
+    | cycles_per_episode | 2 | episode length in cycles (the paper's evaluation) |
+    | reward_weights | {"climb": 1, "slip": 1} | weights of the reward terms |
+    | domain_randomization | None | True for defaults, or a dict (see below) |
+    | privileged_obs | False | append the centre of mass position and velocity |
+    | start_phase_range | 0.05 | fraction of a cycle the start keyframe is drawn from |
+    | reset_noise_scale | 0.02 | rad of joint noise at reset |
+    | fall_distance | 0.2 | m of centre-of-mass drop that counts as a fall |
+
+    ``domain_randomization`` draws, at every reset, ``pole_radius``, ``friction``, ``kp`` and
+    ``mass_scale`` uniformly from ``(low, high)`` ranges and adds Gaussian ``sensor_noise`` (std:
+    that many rad on angles, 10x in rad/s on velocities, kp x in N m on torques). ``True`` uses
+    ``DEFAULT_RANDOMIZATION``. The gait's radius follows the drawn pole radius.
+
+    ## Version History
+    * v0: initial release.
+    """
+
+    metadata = {
+        "render_modes": ["human", "rgb_array", "depth_array", "rgbd_tuple"],
+        "render_fps": 10,
+    }
+
+    def __init__(
+        self,
+        base_gait: str = "acl",
+        gait_kwargs: Mapping[str, Any] | None = None,
+        residual_scale: float | None = None,
+        n_joints: int = 20,
+        pole_radius: float = 0.075,
+        friction: float = 1.0,
+        kp: float = 20.0,
+        squeeze: float = DEFAULT_SQUEEZE,
+        steps_per_cycle: int = 220,
+        cycles_per_episode: int = 2,
+        reward_weights: Mapping[str, float] | None = None,
+        domain_randomization: bool | Mapping[str, Any] | None = None,
+        privileged_obs: bool = False,
+        start_phase_range: float = 0.05,
+        reset_noise_scale: float = 0.02,
+        fall_distance: float = 0.2,
+        render_mode: str | None = None,
+        width: int = 640,
+        height: int = 480,
+        camera_name: str = TRACK_CAMERA,
+    ) -> None:
+        EzPickle.__init__(
+            self,
+            base_gait,
+            gait_kwargs,
+            residual_scale,
+            n_joints,
+            pole_radius,
+            friction,
+            kp,
+            squeeze,
+            steps_per_cycle,
+            cycles_per_episode,
+            reward_weights,
+            domain_randomization,
+            privileged_obs,
+            start_phase_range,
+            reset_noise_scale,
+            fall_distance,
+            render_mode,
+            width,
+            height,
+            camera_name,
+        )
+        if base_gait not in GAITS:
+            raise ValueError(f"base_gait must be one of {sorted(GAITS)}, got {base_gait!r}")
+        if int(n_joints) != n_joints or n_joints < 3:
+            raise ValueError(f"n_joints must be an integer >= 3, got {n_joints}")
+        if int(steps_per_cycle) != steps_per_cycle or steps_per_cycle < 2:
+            raise ValueError(f"steps_per_cycle must be an integer >= 2, got {steps_per_cycle}")
+        if int(cycles_per_episode) != cycles_per_episode or cycles_per_episode < 1:
+            raise ValueError(
+                f"cycles_per_episode must be an integer >= 1, got {cycles_per_episode}"
+            )
+        self.base_gait = base_gait
+        self.gait_kwargs = dict(gait_kwargs or {})
+        for key in ("n_joints", "steps_per_cycle"):
+            if key in self.gait_kwargs:
+                raise ValueError(f"gait_kwargs must not set {key!r}: pass it to the env instead")
+        default_scale = JOINT_LIMIT if base_gait == "none" else 0.2
+        self.residual_scale = _positive("residual_scale", default_scale, residual_scale)
+        self.n_joints = int(n_joints)
+        self.pole_radius = _positive("pole_radius", pole_radius)
+        if self.pole_radius + MODULE_RADIUS - squeeze <= 0.0:
+            raise ValueError(f"squeeze={squeeze} leaves no helix radius for this pole")
+        self.friction = _positive("friction", friction)
+        self.kp = _positive("kp", kp)
+        self.squeeze = _finite("squeeze", squeeze)
+        self.steps_per_cycle = int(steps_per_cycle)
+        self.cycles_per_episode = int(cycles_per_episode)
+        self.reward_weights = _reward_weights(reward_weights)
+        self.randomization = _randomization(domain_randomization)
+        self.privileged_obs = bool(privileged_obs)
+        self.start_phase_range = _finite("start_phase_range", start_phase_range)
+        if not 0.0 <= self.start_phase_range <= 1.0:
+            raise ValueError(f"start_phase_range must be in [0, 1], got {start_phase_range}")
+        self.reset_noise_scale = _finite("reset_noise_scale", reset_noise_scale)
+        self.fall_distance = _positive("fall_distance", fall_distance)
+
+        self.gait = self._make_gait(self.pole_radius)
+        n = self.n_joints
+        obs_size = 4 * n + 9 + (6 if self.privileged_obs else 0)
+        observation_space = spaces.Box(-np.inf, np.inf, shape=(obs_size,), dtype=np.float64)
+        frame_skip = round(CONTROL_DT / 0.002)
+        MujocoEnv.__init__(
+            self,
+            str(assets_dir() / SCENE_FILE),
+            frame_skip,
+            observation_space=observation_space,
+            render_mode=render_mode,
+            width=width,
+            height=height,
+            camera_name=camera_name,
+        )
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
+        self._pole_geom = self.model.geom(POLE_GEOM).id
+        self._snake_geoms = snake_geom_ids(self.model, n)
+        self._is_snake_geom = np.zeros(self.model.ngeom, dtype=bool)
+        self._is_snake_geom[self._snake_geoms] = True
+        self._snake_bodies = np.array([self.model.body(link_name(k)).id for k in range(n + 1)])
+        self._root_body = self._snake_bodies[0]
+        self._imu_quat = _sensor_slice(self.model, IMU_QUAT_SENSOR)
+        self._imu_gyro = _sensor_slice(self.model, IMU_GYRO_SENSOR)
+        self._nominal = {
+            "pole_size": self.model.geom_size[self._pole_geom].copy(),
+            "pole_rbound": float(self.model.geom_rbound[self._pole_geom]),
+            "mass": self.model.body_mass[self._snake_bodies].copy(),
+            "inertia": self.model.body_inertia[self._snake_bodies].copy(),
+        }
+        self._sensor_noise = 0.0
+        self._kp_now = self.kp
+        self._table = self._gait_table()
+        self._step_count = 0
+        self._k0 = 0
+        self._com_start = 0.0
+
+    # -- construction -------------------------------------------------------------------------
+
+    def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        model = build_model(self.n_joints, self.pole_radius, self.friction, self.kp)
+        model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
+        model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
+        return model, mujoco.MjData(model)
+
+    def _gait_kwargs(self, pole_radius: float) -> dict[str, Any]:
+        kwargs = {"radius": pole_radius + MODULE_RADIUS - self.squeeze, **self.gait_kwargs}
+        return {**kwargs, "n_joints": self.n_joints, "steps_per_cycle": self.steps_per_cycle}
+
+    def _make_gait(self, pole_radius: float, base: str | None = None) -> Gait | None:
+        base = base or self.base_gait
+        if GAITS[base] is None:
+            return None
+        return _cached_gait(base, tuple(sorted(self._gait_kwargs(pole_radius).items())))
+
+    def _gait_table(self) -> np.ndarray:
+        if self.gait is None:
+            return np.zeros((self.steps_per_cycle, self.n_joints))
+        return self.gait.cycle()
+
+    # -- reset ----------------------------------------------------------------------------------
+
+    def reset_model(self) -> np.ndarray:
+        rng = self.np_random
+        pole_radius = self._apply_randomization(rng)
+        self.gait = self._make_gait(pole_radius)
+        self._table = self._gait_table()
+        span = max(1, round(self.start_phase_range * self.steps_per_cycle))
+        self._k0 = int(rng.integers(span))
+        self._step_count = 0
+        # "none" starts from the ACL gait's pose: the ablation must still begin on the pole.
+        start_gait = self.gait or self._make_gait(pole_radius, "acl")
+        phase0 = self._k0 / self.steps_per_cycle
+        angles, rotation, translation = self._placement(start_gait, phase0, pole_radius)
+        yaw = rng.uniform(-np.pi, np.pi)
+        c, s = math.cos(yaw), math.sin(yaw)
+        yaw_rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        qpos = self.init_qpos.copy()
+        qpos[:3] = yaw_rot @ translation
+        mujoco.mju_mat2Quat(qpos[3:7], (yaw_rot @ rotation).ravel())
+        angles = angles + self.reset_noise_scale * rng.standard_normal(self.n_joints)
+        qpos[7:] = np.clip(angles, -JOINT_LIMIT, JOINT_LIMIT)
+        self.set_state(qpos, np.zeros(self.model.nv))
+        self._ramp_in(qpos[7:].copy(), start_gait.cycle()[self._k0])
+        self._com_start = self._com()[2]
+        return self._get_obs()
+
+    def _placement(
+        self, gait: Gait, phase: float, pole_radius: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Joint angles and root pose of the keyframe drawn on a helix that clears the pole."""
+        kwargs = {k: v for k, v in self._gait_kwargs(pole_radius).items() if k != "radius"}
+        contact = pole_radius + MODULE_RADIUS
+        radius = contact + START_CLEARANCE
+        for _ in range(8):
+            loose = type(gait)(**kwargs, radius=radius)
+            angles = loose.joint_angles(phase)
+            joints, ends, _ = forward_kinematics(angles, loose.module_length)
+            rotation, translation, _ = rigid_fit(joints, loose.backbone(phase))
+            points = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
+            gap = _min_axis_distance(points) - contact
+            if gap >= START_CLEARANCE - 1e-4:
+                break
+            radius += START_CLEARANCE - gap + 1e-3
+        translation = translation + np.array([0.0, 0.0, START_HEIGHT - points[:, 2].min()])
+        return angles, rotation, translation
+
+    def _ramp_in(self, start: np.ndarray, target: np.ndarray) -> None:
+        """Ramp the servo targets from the placed pose to the first keyframe, then hold it."""
+        chunks, dt = 10, self.model.opt.timestep
+        per_chunk = max(1, round(RAMP_TIME / dt / chunks))
+        for i in range(1, chunks + 1):
+            self.data.ctrl[:] = start + (target - start) * (i / chunks)
+            mujoco.mj_step(self.model, self.data, nstep=per_chunk)
+        mujoco.mj_step(self.model, self.data, nstep=max(1, round(SETTLE_TIME / dt)))
+        mujoco.mj_forward(self.model, self.data)
+
+    def _apply_randomization(self, rng: np.random.Generator) -> float:
+        """Draw this episode's physics from ``domain_randomization``; returns the pole radius."""
+        dr = self.randomization
+        model = self.model
+        pole_radius = float(rng.uniform(*dr["pole_radius"])) if "pole_radius" in dr else None
+        pole_radius = pole_radius or self.pole_radius
+        model.geom_size[self._pole_geom, 0] = pole_radius
+        model.geom_rbound[self._pole_geom] = (
+            self._nominal["pole_rbound"] - self._nominal["pole_size"][0] + pole_radius
+        )
+        friction = float(rng.uniform(*dr["friction"])) if "friction" in dr else self.friction
+        model.geom_friction[self._snake_geoms, 0] = friction
+        model.geom_friction[self._pole_geom, 0] = friction
+        kp = float(rng.uniform(*dr["kp"])) if "kp" in dr else self.kp
+        model.actuator_gainprm[:, 0] = kp
+        model.actuator_biasprm[:, 1] = -kp
+        scale = float(rng.uniform(*dr["mass_scale"])) if "mass_scale" in dr else 1.0
+        model.body_mass[self._snake_bodies] = self._nominal["mass"] * scale
+        model.body_inertia[self._snake_bodies] = self._nominal["inertia"] * scale
+        self._sensor_noise = float(dr.get("sensor_noise", 0.0))
+        self._kp_now = kp
+        return pole_radius
+
+    # -- step -----------------------------------------------------------------------------------
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        action = np.asarray(action, dtype=np.float64)
+        if action.shape != (self.n_joints,):
+            raise ValueError(f"action must have shape ({self.n_joints},), got {action.shape}")
+        if not np.all(np.isfinite(action)):
+            raise ValueError(f"action must be finite, got {action}")
+        k = (self._k0 + self._step_count) % self.steps_per_cycle
+        residual = self.residual_scale * np.clip(action, -1.0, 1.0)
+        target = np.clip(self._table[k] + residual, -JOINT_LIMIT, JOINT_LIMIT)
+
+        model, data = self.model, self.data
+        com_before = self._com()[2]
+        warnings_before = int(data.warning.number.sum())
+        data.ctrl[:] = target
+        substeps = self.frame_skip // SLIP_SAMPLES
+        sample_dt = substeps * model.opt.timestep
+        slip = energy = 0.0
+        touched = False
+        for _ in range(SLIP_SAMPLES):
+            mujoco.mj_step(model, data, nstep=substeps)
+            speed, n_touch = self._contact_slip_speed()
+            slip += speed * sample_dt
+            touched |= n_touch > 0
+            energy += float(np.sum(np.abs(data.actuator_force * data.qvel[6:]))) * sample_dt
+        self._step_count += 1
+
+        unstable = int(data.warning.number.sum()) > warnings_before or not (
+            np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))
+        )
+        com = self._com()
+        climb = 0.0 if unstable else float(com[2] - com_before)
+        slip = 0.0 if unstable else slip
+        fell = not unstable and (com[2] < self._com_start - self.fall_distance or not touched)
+        terms = {
+            "reward_climb": self.reward_weights["climb"] * climb,
+            "reward_slip": -self.reward_weights["slip"] * slip,
+        }
+        reward = sum(terms.values())
+        terminated = fell or unstable
+        truncated = self._step_count >= self.steps_per_cycle * self.cycles_per_episode
+        info = {
+            **terms,
+            "climb": climb,
+            "slip": slip,
+            "energy": energy,
+            "com_height": float(com[2]),
+            "phase": k / self.steps_per_cycle,
+            "fell": fell,
+            "unstable": unstable,
+        }
+        obs = self._get_obs() if not unstable else np.zeros(self.observation_space.shape)
+        if self.render_mode == "human":
+            self.render()
+        return obs, reward, terminated, truncated, info
+
+    def _com(self) -> np.ndarray:
+        """Centre of mass of the snake (the subtree of its root link)."""
+        return self.data.subtree_com[self._root_body]
+
+    def _contact_slip_speed(self) -> tuple[float, int]:
+        """Mean tangential sliding speed (m/s) of the snake-pole contacts, and their number.
+
+        With an elliptic cone each contact's constraint rows are the normal then the two
+        tangential directions; their ``efc_vel`` is the relative sliding velocity.
+        """
+        ncon = self.data.ncon
+        if ncon == 0:
+            return 0.0, 0
+        contact = self.data.contact
+        geoms = contact.geom[:ncon]
+        on_pole = (geoms[:, 0] == self._pole_geom) | (geoms[:, 1] == self._pole_geom)
+        on_pole &= self._is_snake_geom[geoms].any(axis=1) & (contact.efc_address[:ncon] >= 0)
+        if not on_pole.any():
+            return 0.0, 0
+        rows = contact.efc_address[:ncon][on_pole]
+        vel = self.data.efc_vel
+        speed = np.hypot(vel[rows + 1], vel[rows + 2])
+        return float(speed.mean()), int(on_pole.sum())
+
+    def _get_obs(self) -> np.ndarray:
+        data = self.data
+        k = (self._k0 + self._step_count) % self.steps_per_cycle
+        angle = 2.0 * np.pi * k / self.steps_per_cycle
+        parts = [
+            data.qpos[7:],
+            data.qvel[6:],
+            data.actuator_force,
+            data.sensordata[self._imu_quat],
+            data.sensordata[self._imu_gyro],
+            [math.cos(angle), math.sin(angle)],
+            self._table[k],
+        ]
+        if self.privileged_obs:
+            parts += [self._com(), data.cvel[self._root_body][3:]]
+        obs = np.concatenate(parts)
+        if self._sensor_noise > 0.0:
+            n = self.n_joints
+            scale = np.concatenate([np.full(n, 1.0), np.full(n, 10.0), np.full(n, self._kp_now)])
+            obs[: 3 * n] += self._sensor_noise * scale * self.np_random.standard_normal(3 * n)
+        return obs
+
+    def _get_reset_info(self) -> dict[str, Any]:
+        return {"com_height": float(self._com()[2]), "phase": self._k0 / self.steps_per_cycle}
+
+
+def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:
+    sensor = model.sensor(name)
+    start = int(sensor.adr[0])
+    return slice(start, start + int(sensor.dim[0]))
+
+
+def _min_axis_distance(points: np.ndarray) -> float:
+    """Smallest distance from the pole axis (z) to the polyline through ``points``."""
+    u = np.linspace(0.0, 1.0, 9)[None, :, None]
+    samples = points[:-1, None] + u * (points[1:] - points[:-1])[:, None]
+    return float(np.linalg.norm(samples[..., :2], axis=-1).min())
+
+
+def _finite(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
+
+
+def _positive(name: str, value: float, given: float | None = None) -> float:
+    """Validate a positive parameter; with ``given`` the first argument is its default."""
+    if given is not None:
+        value = given
+    value = _finite(name, value)
+    if value <= 0.0:
+        raise ValueError(f"{name} must be positive, got {value}")
+    return value
+
+
+def _reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:
+    merged = {**DEFAULT_REWARD_WEIGHTS, **(weights or {})}
+    unknown = set(merged) - set(DEFAULT_REWARD_WEIGHTS)
+    if unknown:
+        raise ValueError(
+            f"reward_weights has unknown terms {sorted(unknown)}; "
+            f"known: {sorted(DEFAULT_REWARD_WEIGHTS)}"
+        )
+    return {key: _finite(f"reward_weights[{key!r}]", value) for key, value in merged.items()}
+
+
+def _randomization(spec: bool | Mapping[str, Any] | None) -> dict[str, Any]:
+    """Validated domain-randomisation ranges (empty when off)."""
+    if spec is None or spec is False:
+        return {}
+    if spec is True:
+        return dict(DEFAULT_RANDOMIZATION)
+    unknown = set(spec) - set(DEFAULT_RANDOMIZATION)
+    if unknown:
+        raise ValueError(
+            f"domain_randomization has unknown keys {sorted(unknown)}; "
+            f"known: {sorted(DEFAULT_RANDOMIZATION)}"
+        )
+    out: dict[str, Any] = {}
+    for key, value in spec.items():
+        if key == "sensor_noise":
+            noise = _finite("domain_randomization['sensor_noise']", value)
+            if noise < 0.0:
+                raise ValueError(f"domain_randomization['sensor_noise'] must be >= 0, got {noise}")
+            out[key] = noise
+            continue
+        lo, hi = (_finite(f"domain_randomization[{key!r}]", v) for v in value)
+        if not 0.0 < lo <= hi:
+            raise ValueError(f"domain_randomization[{key!r}] must be 0 < low <= high, got {value}")
+        out[key] = (lo, hi)
+    return out
+
+
+__all__ = ["DEFAULT_RANDOMIZATION", "DEFAULT_REWARD_WEIGHTS", "ACLClimbEnv"]

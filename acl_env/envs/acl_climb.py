@@ -138,7 +138,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     * v0: initial release.
     """
 
-    metadata = {
+    metadata: ClassVar[dict[str, Any]] = {
         "render_modes": ["human", "rgb_array", "depth_array", "rgbd_tuple"],
         "render_fps": 10,
     }

@@ -3,8 +3,8 @@
 Conventions (shared with the MuJoCo model in :mod:`acl_env.model`):
 
 * The chain has ``n_joints + 1`` links of length ``l``; link 0 is the head. Arc length ``s`` runs
-  from the head tip (``s = 0``) to the tail tip (``s = (n_joints + 1) l``); joint ``j`` (0-based, head
-  joint first) sits at ``s = (j + 1) l``, between link ``j`` and link ``j + 1``.
+  from the head tip (``s = 0``) to the tail tip (``s = (n_joints + 1) l``); joint ``j`` (0-based,
+  head joint first) sits at ``s = (j + 1) l``, between link ``j`` and link ``j + 1``.
 * Each link frame has its x axis along the body, pointing from head to tail. Even joints
   (0, 2, ...) are *dorsal*: they rotate about the link's y axis. Odd joints are *lateral*: they
   rotate about the link's z axis. A positive angle is a right-handed rotation about that axis.

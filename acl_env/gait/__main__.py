@@ -151,7 +151,11 @@ def plot(gaits: dict[str, Gait], path: str | Path, phases: Sequence[float] = PLO
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line: print a summary of both gaits, or draw them with ``--plot FILE``."""
-    parser = argparse.ArgumentParser(prog="python -m acl_env.gait", description=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="python -m acl_env.gait",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--plot", metavar="FILE", type=Path, help="write the figure to FILE")
     parser.add_argument("--radius", type=float, help="backbone helix radius r (m)")
     parser.add_argument("--pitch", type=float, help="rise per turn (m)")

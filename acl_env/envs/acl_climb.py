@@ -17,6 +17,7 @@ from acl_env.gait import ACLGait, Gait, RollingHelixGait
 from acl_env.gait.gaits import DEFAULT_SQUEEZE, JOINT_LIMIT, SEA_MODULE_DIAMETER
 from acl_env.gait.kinematics import forward_kinematics, rigid_fit
 from acl_env.model import (
+    FLOOR_GEOM,
     IMU_GYRO_SENSOR,
     IMU_QUAT_SENSOR,
     POLE_GEOM,
@@ -100,14 +101,16 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``start_phase_range`` of a cycle) is drawn by forward kinematics with a helix loosened until
     every shell clears the pole by 5 mm, fitted onto that helix (Kabsch), turned by a random yaw
     about the pole, 0.3 m above the floor, with joint noise of ``reset_noise_scale`` rad. The
-    servos then ramp to the real keyframe (the squeeze) in 0.3 s and hold it 0.2 s. The episode
+    servos then ramp to the real keyframe (the squeeze) in 0.3 s with gravity off, and hold it
+    0.2 s with gravity on. The episode
     starts from there; it is deterministic per seed.
 
     ## Episode End
     Truncation after ``cycles_per_episode`` gait cycles. Termination when the snake *fell*: its
-    centre of mass is ``fall_distance`` below where the episode started, or no shell touched the
-    pole at any sample of a step (``info["fell"]``); or when the physics became *unstable*: a MuJoCo
-    warning or a non-finite state (``info["unstable"]``, the step's reward terms are then 0).
+    centre of mass is ``fall_distance`` below where the episode started, a shell touches the
+    floor, or no shell touched the pole at any sample of a step (``info["fell"]``); or when the
+    physics became *unstable*: a MuJoCo warning or a non-finite state (``info["unstable"]``; the
+    step's reward terms are then 0).
 
     ## Arguments
     | argument | default | meaning |
@@ -241,6 +244,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         )
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
         self._pole_geom = self.model.geom(POLE_GEOM).id
+        self._floor_geom = self.model.geom(FLOOR_GEOM).id
         self._snake_geoms = snake_geom_ids(self.model, n)
         self._is_snake_geom = np.zeros(self.model.ngeom, dtype=bool)
         self._is_snake_geom[self._snake_geoms] = True
@@ -332,12 +336,20 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         return angles, rotation, translation
 
     def _ramp_in(self, start: np.ndarray, target: np.ndarray) -> None:
-        """Ramp the servo targets from the placed pose to the first keyframe, then hold it."""
+        """Ramp the servo targets from the placed pose to the first keyframe, then hold it.
+
+        Gravity is off while the squeeze ramps in (the loose start pose cannot hold yet, and
+        would drop ~10 cm before gripping); it is back on for the hold, so the episode starts
+        from a snake that carries its own weight.
+        """
         chunks, dt = 10, self.model.opt.timestep
         per_chunk = max(1, round(RAMP_TIME / dt / chunks))
+        gravity = self.model.opt.gravity.copy()
+        self.model.opt.gravity[:] = 0.0
         for i in range(1, chunks + 1):
             self.data.ctrl[:] = start + (target - start) * (i / chunks)
             mujoco.mj_step(self.model, self.data, nstep=per_chunk)
+        self.model.opt.gravity[:] = gravity
         mujoco.mj_step(self.model, self.data, nstep=max(1, round(SETTLE_TIME / dt)))
         mujoco.mj_forward(self.model, self.data)
 
@@ -383,12 +395,13 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         substeps = self.frame_skip // SLIP_SAMPLES
         sample_dt = substeps * model.opt.timestep
         slip = energy = 0.0
-        touched = False
+        touched = grounded = False
         for _ in range(SLIP_SAMPLES):
             mujoco.mj_step(model, data, nstep=substeps)
-            speed, n_touch = self._contact_slip_speed()
+            speed, on_pole, on_floor = self._contacts()
             slip += speed * sample_dt
-            touched |= n_touch > 0
+            touched |= on_pole
+            grounded |= on_floor
             energy += float(np.sum(np.abs(data.actuator_force * data.qvel[6:]))) * sample_dt
         self._step_count += 1
 
@@ -398,7 +411,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         com = self._com()
         climb = 0.0 if unstable else float(com[2] - com_before)
         slip = 0.0 if unstable else slip
-        fell = not unstable and (com[2] < self._com_start - self.fall_distance or not touched)
+        dropped = com[2] < self._com_start - self.fall_distance
+        fell = not unstable and (dropped or grounded or not touched)
         terms = {
             "reward_climb": self.reward_weights["climb"] * climb,
             "reward_slip": -self.reward_weights["slip"] * slip,
@@ -425,25 +439,26 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         """Centre of mass of the snake (the subtree of its root link)."""
         return self.data.subtree_com[self._root_body]
 
-    def _contact_slip_speed(self) -> tuple[float, int]:
-        """Mean tangential sliding speed (m/s) of the snake-pole contacts, and their number.
+    def _contacts(self) -> tuple[float, bool, bool]:
+        """Mean sliding speed (m/s) of the snake-pole contacts; is the pole touched; the floor?
 
         With an elliptic cone each contact's constraint rows are the normal then the two
         tangential directions; their ``efc_vel`` is the relative sliding velocity.
         """
         ncon = self.data.ncon
         if ncon == 0:
-            return 0.0, 0
+            return 0.0, False, False
         contact = self.data.contact
         geoms = contact.geom[:ncon]
-        on_pole = (geoms[:, 0] == self._pole_geom) | (geoms[:, 1] == self._pole_geom)
-        on_pole &= self._is_snake_geom[geoms].any(axis=1) & (contact.efc_address[:ncon] >= 0)
+        snake = self._is_snake_geom[geoms].any(axis=1) & (contact.efc_address[:ncon] >= 0)
+        on_floor = bool(np.any(snake & ((geoms == self._floor_geom).any(axis=1))))
+        on_pole = snake & (geoms == self._pole_geom).any(axis=1)
         if not on_pole.any():
-            return 0.0, 0
+            return 0.0, False, on_floor
         rows = contact.efc_address[:ncon][on_pole]
         vel = self.data.efc_vel
         speed = np.hypot(vel[rows + 1], vel[rows + 2])
-        return float(speed.mean()), int(on_pole.sum())
+        return float(speed.mean()), True, on_floor
 
     def _get_obs(self) -> np.ndarray:
         data = self.data

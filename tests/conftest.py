@@ -1,0 +1,5 @@
+"""Shared test set-up: headless rendering through EGL (DESIGN.md section 4)."""
+
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")

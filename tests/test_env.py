@@ -1,0 +1,274 @@
+"""The Gymnasium environments: API conformance, determinism, reward bookkeeping, physics."""
+
+from __future__ import annotations
+
+import pickle
+import warnings
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import acl_env  # noqa: F401  (registers the ids)
+from acl_env.envs import ACLClimbEnv
+from acl_env.gait.kinematics import rigid_fit
+from acl_env.model import joint_name
+
+ENV_IDS = ["acl_env/ACLClimb-v0", "acl_env/RollingHelixClimb-v0"]
+SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}
+
+
+def rollout(env: gym.Env, seed: int, actions: np.ndarray) -> list[tuple]:
+    """Observations, rewards and infos of a reset plus the given actions."""
+    obs, info = env.reset(seed=seed)
+    out = [(obs.copy(), 0.0, info)]
+    for action in actions:
+        obs, reward, terminated, truncated, info = env.step(action)
+        out.append((obs.copy(), reward, info))
+        if terminated or truncated:
+            break
+    return out
+
+
+def assert_same(a: list[tuple], b: list[tuple]) -> None:
+    assert len(a) == len(b)
+    for (obs_a, rew_a, info_a), (obs_b, rew_b, info_b) in zip(a, b, strict=True):
+        np.testing.assert_array_equal(obs_a, obs_b)
+        assert rew_a == rew_b
+        assert info_a == info_b
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_gymnasium_check_env(env_id: str) -> None:
+    env = gym.make(env_id, **SHORT)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped, skip_render_check=True)
+    # Unbounded observations (velocities, torques) are expected, as in Gymnasium's MuJoCo envs.
+    unexpected = [str(w.message) for w in caught if "infinity" not in str(w.message)]
+    assert not unexpected, unexpected
+    env.close()
+
+
+def test_sb3_check_env() -> None:
+    from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+    env = gym.make("acl_env/ACLClimb-v0", **SHORT)
+    sb3_check_env(env.unwrapped, warn=True)
+    env.close()
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_registered_with_gait(env_id: str) -> None:
+    env = gym.make(env_id)
+    expected = "ACLGait" if "ACL" in env_id else "RollingHelixGait"
+    assert type(env.unwrapped.gait).__name__ == expected
+    assert env.unwrapped.dt == pytest.approx(0.1)
+    assert env.action_space.shape == (20,)
+    assert env.observation_space.shape == (89,)
+
+
+def test_same_seed_same_rollout() -> None:
+    actions = np.random.default_rng(0).uniform(-1, 1, (15, 20)).astype(np.float32)
+    env_a, env_b = gym.make("acl_env/ACLClimb-v0"), gym.make("acl_env/ACLClimb-v0")
+    assert_same(rollout(env_a, 3, actions), rollout(env_b, 3, actions))
+    # A different seed gives a different start.
+    other = rollout(env_a, 4, actions[:1])
+    assert not np.array_equal(other[0][0], rollout(env_b, 3, actions[:1])[0][0])
+
+
+def test_pickled_env_reproduces_reset_and_step() -> None:
+    actions = np.random.default_rng(1).uniform(-1, 1, (10, 20)).astype(np.float32)
+    env = gym.make("acl_env/ACLClimb-v0", domain_randomization=True).unwrapped
+    clone = pickle.loads(pickle.dumps(env))
+    assert_same(rollout(env, 7, actions), rollout(clone, 7, actions))
+
+
+def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
+    env = gym.make("acl_env/ACLClimb-v0", reward_weights={"climb": 2.0, "slip": 3.0})
+    obs, _ = env.reset(seed=0)
+    assert env.observation_space.contains(obs)
+    rng = np.random.default_rng(2)
+    for _ in range(30):
+        obs, reward, _, _, info = env.step(env.action_space.sample() * 0 + rng.uniform(-1, 1, 20))
+        terms = [v for k, v in info.items() if k.startswith("reward_")]
+        assert sorted(k for k in info if k.startswith("reward_")) == ["reward_climb", "reward_slip"]
+        assert reward == sum(terms)
+        assert info["reward_climb"] == 2.0 * info["climb"]
+        assert info["reward_slip"] == -3.0 * info["slip"]
+        assert info["slip"] >= 0.0 and info["energy"] >= 0.0
+        assert np.all(np.isfinite(obs)) and env.observation_space.contains(obs)
+
+
+def test_zero_action_is_the_open_loop_gait_and_residual_is_clipped() -> None:
+    env = gym.make("acl_env/ACLClimb-v0", residual_scale=0.3).unwrapped
+    env.reset(seed=0)
+    table = env.gait.cycle()
+    k = env._k0
+    env.step(np.zeros(20, dtype=np.float32))
+    np.testing.assert_array_equal(env.data.ctrl, table[k])
+    # target = clip(gait + scale * clip(action, -1, 1), joint range)
+    action = np.linspace(-3.0, 3.0, 20)
+    env.step(action)
+    expected = np.clip(table[k + 1] + 0.3 * np.clip(action, -1, 1), -np.pi / 2, np.pi / 2)
+    np.testing.assert_allclose(env.data.ctrl, expected, rtol=0, atol=1e-12)
+    assert np.all(np.abs(env.data.ctrl) <= np.pi / 2)
+
+
+def test_out_of_range_actions_equal_clipped_actions() -> None:
+    big = np.full((5, 20), 7.0, dtype=np.float32)
+    env_a, env_b = gym.make("acl_env/ACLClimb-v0"), gym.make("acl_env/ACLClimb-v0")
+    assert_same(rollout(env_a, 0, big), rollout(env_b, 0, np.clip(big, -1, 1)))
+
+
+@pytest.mark.parametrize(
+    ("action", "match"),
+    [
+        (np.full(20, np.nan), "finite"),
+        (np.full(20, np.inf), "finite"),
+        (np.zeros(19), "shape"),
+    ],
+)
+def test_bad_actions_raise(action: np.ndarray, match: str) -> None:
+    env = gym.make("acl_env/ACLClimb-v0").unwrapped
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=match):
+        env.step(action)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"base_gait": "slither"}, "base_gait"),
+        ({"n_joints": 2}, "n_joints"),
+        ({"pole_radius": -0.1}, "pole_radius"),
+        ({"pole_radius": float("nan")}, "pole_radius"),
+        ({"friction": 0.0}, "friction"),
+        ({"kp": -5.0}, "kp"),
+        ({"residual_scale": 0.0}, "residual_scale"),
+        ({"steps_per_cycle": 1}, "steps_per_cycle"),
+        ({"cycles_per_episode": 0}, "cycles_per_episode"),
+        ({"reward_weights": {"speed": 1.0}}, "reward_weights"),
+        ({"reward_weights": {"climb": float("inf")}}, "reward_weights"),
+        ({"domain_randomization": {"pole_radius": (0.09, 0.06)}}, "pole_radius"),
+        ({"domain_randomization": {"gravity": (1, 2)}}, "domain_randomization"),
+        ({"gait_kwargs": {"pitch": 0.01}}, "pitch"),
+        ({"gait_kwargs": {"n_joints": 8}}, "n_joints"),
+        ({"fall_distance": 0.0}, "fall_distance"),
+    ],
+)
+def test_bad_kwargs_raise_naming_the_parameter(kwargs: dict, name: str) -> None:
+    with pytest.raises(ValueError, match=name):
+        ACLClimbEnv(**kwargs)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_mujoco_kinematics_fit_the_gait_backbone(env_id: str) -> None:
+    """MuJoCo's own joint anchors, posed at the gait's angles, lie on the commanded backbone."""
+    env = gym.make(env_id).unwrapped
+    model, data, gait = env.model, env.data, env.gait
+    joint_ids = [model.joint(joint_name(j)).id for j in range(gait.n_joints)]
+    worst = 0.0
+    for phase in np.linspace(0.0, 1.0, 12, endpoint=False):
+        data.qpos[7:] = gait.joint_angles(phase)
+        mujoco.mj_kinematics(model, data)
+        _, _, rms = rigid_fit(data.xanchor[joint_ids].copy(), gait.backbone(phase))
+        worst = max(worst, rms)
+    assert worst <= 0.015
+
+
+def test_model_has_no_unnamed_elements() -> None:
+    model = gym.make("acl_env/ACLClimb-v0").unwrapped.model
+    groups = {
+        "body": model.nbody,
+        "joint": model.njnt,
+        "geom": model.ngeom,
+        "site": model.nsite,
+        "camera": model.ncam,
+        "light": model.nlight,
+        "actuator": model.nu,
+        "sensor": model.nsensor,
+        "material": model.nmat,
+        "texture": model.ntex,
+    }
+    for kind, count in groups.items():
+        for i in range(count):
+            name = mujoco.mj_id2name(model, getattr(mujoco.mjtObj, f"mjOBJ_{kind.upper()}"), i)
+            assert name, f"{kind} {i} has no name"
+    assert model.ncam >= 2
+
+
+def test_make_vec() -> None:
+    envs = gym.make_vec("acl_env/ACLClimb-v0", num_envs=2, vectorization_mode="sync", **SHORT)
+    obs, _ = envs.reset(seed=[0, 1])
+    assert obs.shape == (2, 89)
+    assert not np.array_equal(obs[0], obs[1])
+    obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 20), dtype=np.float32))
+    assert obs.shape == (2, 89) and reward.shape == (2,)
+    assert "climb" in info
+    envs.close()
+
+
+def test_domain_randomization_varies_physics_deterministically() -> None:
+    env = ACLClimbEnv(domain_randomization=True)
+    radii = []
+    for seed in (0, 1, 0):
+        env.reset(seed=seed)
+        radii.append(float(env.model.geom_size[env.model.geom("pole").id, 0]))
+        lo, hi = env.randomization["pole_radius"]
+        assert lo <= radii[-1] <= hi
+        assert env.gait.radius == pytest.approx(radii[-1] + 0.0254 - env.squeeze)
+    assert radii[0] == radii[2] != radii[1]
+    for _ in range(5):
+        obs, *_ = env.step(np.zeros(20))
+        assert np.all(np.isfinite(obs))
+
+
+def test_weak_springs_fall_off_and_terminate() -> None:
+    """DESIGN.md: kp = 2 N m/rad cannot hold the pole; the env must say the snake fell."""
+    env = ACLClimbEnv(kp=1.0)
+    env.reset(seed=0)
+    for _ in range(200):
+        _, _, terminated, truncated, info = env.step(np.zeros(20))
+        if terminated:
+            break
+    assert terminated and info["fell"] and not info["unstable"]
+
+
+def test_unstable_physics_terminates_without_crash() -> None:
+    env = ACLClimbEnv()
+    env.reset(seed=0)
+    env.model.opt.timestep = 5.0  # guaranteed divergence
+    obs, reward, terminated, _, info = env.step(np.ones(20))
+    assert terminated and info["unstable"]
+    assert np.all(np.isfinite(obs)) and np.isfinite(reward)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_open_loop_gait_climbs(env_id: str) -> None:
+    """Issue 3: zero action climbs >= 0.15 m of centre-of-mass height per cycle, no fall or warning."""
+    env = gym.make(env_id).unwrapped
+    _, info = env.reset(seed=0)
+    start, climbs = info["com_height"], []
+    while True:
+        _, _, terminated, truncated, info = env.step(np.zeros(20))
+        climbs.append(info["climb"])
+        if terminated or truncated:
+            break
+    assert not terminated
+    assert len(climbs) == 440
+    assert int(env.data.warning.number.sum()) == 0
+    per_cycle = np.add.reduceat(climbs, [0, 220])
+    assert np.all(per_cycle >= 0.15), per_cycle
+    assert info["com_height"] - start == pytest.approx(sum(climbs), abs=1e-9)
+
+
+def test_rgb_render() -> None:
+    env = gym.make("acl_env/ACLClimb-v0", render_mode="rgb_array", width=160, height=120)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
+    assert frame.std() > 5.0  # not a blank image
+    env.close()

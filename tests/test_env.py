@@ -205,7 +205,7 @@ def test_make_vec() -> None:
     obs, _ = envs.reset(seed=[0, 1])
     assert obs.shape == (2, 89)
     assert not np.array_equal(obs[0], obs[1])
-    obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 20), dtype=np.float32))
+    obs, reward, _, _, info = envs.step(np.zeros((2, 20), dtype=np.float32))
     assert obs.shape == (2, 89) and reward.shape == (2,)
     assert "climb" in info
     envs.close()
@@ -231,7 +231,7 @@ def test_weak_springs_fall_off_and_terminate() -> None:
     env = ACLClimbEnv(kp=1.0)
     env.reset(seed=0)
     for _ in range(200):
-        _, _, terminated, truncated, info = env.step(np.zeros(20))
+        _, _, terminated, _, info = env.step(np.zeros(20))
         if terminated:
             break
     assert terminated and info["fell"] and not info["unstable"]
@@ -248,7 +248,7 @@ def test_unstable_physics_terminates_without_crash() -> None:
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_open_loop_gait_climbs(env_id: str) -> None:
-    """Issue 3: zero action climbs >= 0.15 m of centre-of-mass height per cycle, no fall or warning."""
+    """Issue 3: zero action climbs >= 0.15 m of centre-of-mass per cycle, no fall, no warning."""
     env = gym.make(env_id).unwrapped
     _, info = env.reset(seed=0)
     start, climbs = info["com_height"], []

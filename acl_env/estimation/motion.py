@@ -19,6 +19,7 @@ to tail, which is up the pole for a snake whose head is its lowest end.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 
@@ -155,7 +156,7 @@ def estimate_from_frames(
     located: list[PoleFrame] = []
     for points in frames:
         located.append(locate_on_pole(points, located[-1].axes if located else None, pole))
-    pairs = list(zip(located[:-1], located[1:], strict=True))
+    pairs = list(pairwise(located))
     if closed:
         pairs.append((located[-1], located[0]))
     steps = np.array([axial_shift(a, b) for a, b in pairs])

@@ -96,6 +96,10 @@ def build_spec(
         shell.friction[0] = friction
         if k == 0:
             spec.site(IMU_SITE).pos = [half, 0.0, 0.0]
+    # trackcom keeps the camera's offset from the centre of mass at qpos0, where the snake lies
+    # straight along x from the origin: shift the scene's offset by that straight-body COM.
+    camera = spec.camera(TRACK_CAMERA)
+    camera.pos = [camera.pos[0] + half * (n_joints + 1), camera.pos[1], camera.pos[2]]
     return spec
 
 

@@ -1,0 +1,87 @@
+"""The MuJoCo model built from assets/ with MjSpec, and its packaging."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from acl_env.gait.kinematics import forward_kinematics
+from acl_env.model import (
+    MODULE_MASS,
+    POLE_GEOM,
+    actuator_name,
+    build_model,
+    joint_name,
+    link_name,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize("n_joints", [3, 8, 20])
+def test_chain_structure(n_joints: int) -> None:
+    model = build_model(n_joints=n_joints, pole_radius=0.1, kp=12.0, friction=0.8)
+    assert model.nu == n_joints and model.njnt == n_joints + 1  # + the free root
+    assert model.body_mass[1:].sum() == pytest.approx((n_joints + 1) * MODULE_MASS)
+    for j in range(n_joints):
+        joint = model.joint(joint_name(j))
+        np.testing.assert_allclose(joint.range, [-np.pi / 2, np.pi / 2], rtol=1e-6)
+        expected_axis = [0, 1, 0] if j % 2 == 0 else [0, 0, 1]
+        np.testing.assert_array_equal(model.jnt_axis[joint.id], expected_axis)
+        servo = model.actuator(actuator_name(j))
+        assert servo.gainprm[0] == 12.0 and servo.biasprm[1] == -12.0
+        np.testing.assert_array_equal(servo.forcerange, [-7.0, 7.0])
+        assert model.actuator_forcelimited[servo.id]
+    assert model.geom(POLE_GEOM).size[0] == pytest.approx(0.1)
+    assert model.geom_friction[model.geom(POLE_GEOM).id, 0] == pytest.approx(0.8)
+    assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+    assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+
+
+def test_chain_matches_numpy_forward_kinematics() -> None:
+    """The MJCF chain and acl_env.gait.kinematics share one convention (axes, signs, head)."""
+    model = build_model(n_joints=20)
+    data = mujoco.MjData(model)
+    angles = np.random.default_rng(0).uniform(-1.4, 1.4, 20)
+    data.qpos[3:7] = [1, 0, 0, 0]
+    data.qpos[7:] = angles
+    mujoco.mj_kinematics(model, data)
+    joints, _, frames = forward_kinematics(angles, 0.0639)
+    anchors = np.array([data.joint(joint_name(j)).xanchor for j in range(20)])
+    np.testing.assert_allclose(anchors - data.body(link_name(0)).xpos, joints, atol=1e-9)
+    tail = data.body(link_name(20)).xmat.reshape(3, 3)
+    np.testing.assert_allclose(tail, frames[20], atol=1e-9)
+
+
+@pytest.mark.slow
+def test_wheel_ships_the_assets(tmp_path: Path) -> None:
+    """A non-editable install (the wheel) finds the MJCF templates inside the package."""
+    wheel_dir, target = tmp_path / "wheel", tmp_path / "site"
+    subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", wheel_dir, ROOT],
+        check=True,
+    )
+    (wheel,) = wheel_dir.glob("acl_env-*.whl")
+    subprocess.run(
+        [sys.executable, "-m", "pip", "install", "--no-deps", "-q", "-t", target, wheel],
+        check=True,
+    )
+    probe = (
+        "import acl_env.model as m; "
+        "print(m.__file__); print(m.assets_dir()); print(m.build_model(n_joints=5).nbody)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", probe],
+        cwd=tmp_path,
+        env={"PYTHONPATH": str(target), "PATH": "/usr/bin:/bin"},
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
+    assert out[0].startswith(str(target)) and out[1].startswith(str(target))
+    assert out[2] == "7"  # world + 6 links

@@ -1,0 +1,238 @@
+"""Training and evaluation scripts, through the command line a user types (train/*.py)."""
+
+from __future__ import annotations
+
+import json
+import math
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+import pytest
+import yaml
+
+import acl_env  # noqa: F401
+
+ROOT = Path(__file__).resolve().parents[1]
+TRAIN = ROOT / "train"
+sys.path.insert(0, str(TRAIN))
+
+import common  # noqa: E402
+import evaluate  # noqa: E402
+
+ACL_ID = "acl_env/ACLClimb-v0"
+HELIX_ID = "acl_env/RollingHelixClimb-v0"
+
+SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}  # 20-step episodes
+SHORT_ARGS = [f"{k}:{v}" for k, v in SHORT.items()]
+TRAIN_STEPS = 512
+
+
+def run_script(*args: str, timeout: float = 150) -> subprocess.CompletedProcess:
+    """Run ``python train/<script> args`` from the repository root; fail with its output."""
+    proc = subprocess.run(
+        [sys.executable, *args], cwd=ROOT, capture_output=True, text=True, timeout=timeout
+    )
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return proc
+
+
+def train_command(run_root: Path, n_timesteps: int, *extra: str) -> list[str]:
+    """A tiny training run: 2 subprocess envs, 128-step rollouts, 20-step episodes."""
+    return [
+        str(TRAIN / "train_ppo.py"),
+        "--env",
+        ACL_ID,
+        "--seed",
+        "0",
+        "--n-timesteps",
+        str(n_timesteps),
+        "--n-envs",
+        "2",
+        "--run-dir",
+        str(run_root),
+        "--hyperparams",
+        "n_steps:128",
+        "batch_size:64",
+        "n_epochs:2",
+        "--env-kwargs",
+        *SHORT_ARGS,
+        "--checkpoint-freq",
+        "256",
+        "--no-progress-bar",
+        *extra,
+    ]
+
+
+@pytest.fixture(scope="module")
+def trained_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One tiny training run shared by the slow tests."""
+    run_root = tmp_path_factory.mktemp("runs")
+    run_script(*train_command(run_root, TRAIN_STEPS))
+    (run_dir,) = run_root.iterdir()
+    return run_dir
+
+
+def zero_action_metrics(env_id: str, env_kwargs: dict[str, Any], seeds: list[int]) -> dict:
+    """Per-episode climb and slip per cycle of the open-loop gait, straight from the env."""
+    env = gymnasium.make(env_id, **env_kwargs)
+    climbs, slips = [], []
+    for seed in seeds:
+        env.reset(seed=seed)
+        steps, climb, slip, done = 0, 0.0, 0.0, False
+        while not done:
+            _, _, terminated, truncated, info = env.step(np.zeros(env.action_space.shape))
+            steps, climb, slip = steps + 1, climb + info["climb"], slip + info["slip"]
+            done = terminated or truncated
+        cycles = steps / env.unwrapped.steps_per_cycle
+        climbs.append(climb / cycles)
+        slips.append(slip / cycles)
+    return {"climb_per_cycle_m": climbs, "slip_per_cycle_m": slips}
+
+
+# ---- fast tests ------------------------------------------------------------------------------
+
+
+def test_config_entries_build_ppo_arguments() -> None:
+    """Both env entries parse; the residual starts small; gamma is long-horizon."""
+    for env_id in (ACL_ID, HELIX_ID):
+        hyperparams = common.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
+        kwargs = common.algo_kwargs(hyperparams)
+        assert -2.5 <= kwargs["policy_kwargs"]["log_std_init"] <= -1.5
+        assert 0.99 <= kwargs["gamma"] < 1.0
+        assert common.normalize_kwargs(hyperparams) == {
+            "norm_obs": True,
+            "norm_reward": True,
+            "gamma": kwargs["gamma"],
+        }
+        assert hyperparams["env_kwargs"]["domain_randomization"]
+        assert not set(kwargs) & set(common.NON_ALGO_KEYS)
+
+
+def test_config_strings_are_parsed_without_eval() -> None:
+    """Zoo strings become objects; code is rejected instead of run."""
+    import torch
+
+    parsed = common.parse_python_literal("dict(activation_fn=nn.ReLU, net_arch=[64], x=-1e-3)")
+    assert parsed == {"activation_fn": torch.nn.ReLU, "net_arch": [64], "x": -1e-3}
+    with pytest.raises(ValueError):
+        common.parse_python_literal("__import__('os').system('true')")
+    assert common.parse_kv_pairs(["a:0.5", "b:acl", "c:{'k': [1, 2]}"]) == {
+        "a": 0.5,
+        "b": "acl",
+        "c": {"k": [1, 2]},
+    }
+
+
+def test_confidence_interval_uses_student_t() -> None:
+    """t quantiles match tables; the CI of [1, 2, 3] is 2 +- 4.303 * 1 / sqrt(3)."""
+    for dof, table in [(1, 12.7062), (4, 2.7764), (19, 2.0930)]:
+        assert common.student_t_quantile(0.975, dof) == pytest.approx(table, abs=1e-4)
+    ci = common.mean_ci95([1.0, 2.0, 3.0, math.nan])
+    assert ci["n"] == 3
+    assert ci["half_width"] == pytest.approx(4.3027 / math.sqrt(3), abs=1e-4)
+
+
+def test_open_loop_numbers_equal_a_zero_action_rollout(tmp_path: Path) -> None:
+    """evaluate.py's open-loop rows are exactly the env's zero-action rollouts on the same seeds."""
+    out = tmp_path / "eval.json"
+    argv = ["--no-policy", "--episodes", "2", "--seed", "3", "--json", str(out)]
+    evaluate.main([*argv, "--env-kwargs", *SHORT_ARGS, "--no-progress-bar"])
+    controllers = json.loads(out.read_text())["controllers"]
+    assert set(controllers) == {"open_loop_acl", "open_loop_rolling_helix"}
+    for name, env_id in [("open_loop_acl", ACL_ID), ("open_loop_rolling_helix", HELIX_ID)]:
+        direct = zero_action_metrics(env_id, SHORT, [3, 4])
+        for metric, values in direct.items():
+            assert controllers[name][metric]["values"] == pytest.approx(values, abs=1e-9)
+            assert controllers[name][metric]["mean"] == pytest.approx(np.mean(values), abs=1e-9)
+
+
+# ---- slow tests: real training runs ----------------------------------------------------------
+
+
+@pytest.mark.slow
+def test_training_writes_a_run_folder(trained_run: Path) -> None:
+    """model, VecNormalize statistics, merged config, arguments, summary and checkpoints."""
+    for name in ("model.zip", "vecnormalize.pkl", "config.yml", "args.json", "summary.json"):
+        assert (trained_run / name).is_file(), name
+    assert trained_run.name.startswith("acl_env_ACLClimb-v0__ppo__0__")
+    config = yaml.safe_load((trained_run / "config.yml").read_text())
+    entry = config[ACL_ID]
+    assert entry["n_steps"] == 128 and entry["n_envs"] == 2
+    assert entry["env_kwargs"]["steps_per_cycle"] == 20
+    assert "domain_randomization" in entry["env_kwargs"]  # the yml's, merged with the overrides
+    summary = json.loads((trained_run / "summary.json").read_text())
+    assert summary["steps"] >= TRAIN_STEPS and summary["env_steps_per_s"] > 0
+    assert sorted((trained_run / "checkpoints").glob("model_vecnormalize_*_steps.pkl"))
+    assert list((trained_run / "tb").rglob("events.out.tfevents.*"))
+
+
+@pytest.mark.slow
+def test_evaluate_loads_the_run(trained_run: Path, tmp_path: Path) -> None:
+    """The policy row exists with every metric; the plot is written."""
+    out, plot = tmp_path / "eval.json", tmp_path / "eval.png"
+    run_script(
+        str(TRAIN / "evaluate.py"),
+        *["--policy", str(trained_run), "--episodes", "2", "--json", str(out)],
+        *["--plot", str(plot), "--no-progress-bar", "--env-kwargs", *SHORT_ARGS],
+    )
+    document = json.loads(out.read_text())
+    assert set(document["controllers"]) == {"policy", "open_loop_acl", "open_loop_rolling_helix"}
+    for summary in document["controllers"].values():
+        for metric in evaluate.METRICS:
+            assert {"mean", "ci95"} <= set(summary[metric])
+        assert summary["episodes"] == 2
+    assert "domain_randomization" not in document["env_kwargs"]["policy"]
+    assert plot.stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_resume_continues_the_run(trained_run: Path) -> None:
+    """--resume loads the latest model and VecNormalize and adds steps to the same run."""
+    before = json.loads((trained_run / "summary.json").read_text())["total_steps"]
+    run_script(str(TRAIN / "train_ppo.py"), "--resume", str(trained_run), "--n-timesteps", "256",
+               "--no-progress-bar")  # fmt: skip
+    after = json.loads((trained_run / "summary.json").read_text())["total_steps"]
+    assert after >= before + 256
+    assert len(json.loads((trained_run / "args.json").read_text())["resumes"]) == 1
+
+
+@pytest.mark.slow
+def test_ctrl_c_saves_the_model(tmp_path: Path) -> None:
+    """SIGINT during learning saves model and VecNormalize, then exits cleanly."""
+    run_root, log = tmp_path / "runs", tmp_path / "train.log"
+    with open(log, "w") as out:
+        proc = subprocess.Popen(
+            [sys.executable, *train_command(run_root, 10**7)], cwd=ROOT, stdout=out, stderr=out
+        )
+    try:
+        deadline = time.monotonic() + 120
+        while not list(run_root.rglob("model_*_steps.zip")):  # learning has started
+            assert proc.poll() is None and time.monotonic() < deadline, log.read_text()[-3000:]
+            time.sleep(0.2)
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=60) == 0, log.read_text()[-3000:]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    (run_dir,) = run_root.iterdir()
+    assert (run_dir / "model.zip").is_file() and (run_dir / "vecnormalize.pkl").is_file()
+    assert json.loads((run_dir / "summary.json").read_text())["interrupted"] is True
+
+
+@pytest.mark.slow
+def test_the_zoo_trains_from_the_config(tmp_path: Path) -> None:
+    """rl-baselines3-zoo reads train/configs/ppo.yml as it is (policy_kwargs, normalize strings)."""
+    run_script(
+        *["-m", "rl_zoo3.train", "--algo", "ppo", "--env", ACL_ID, "--gym-packages", "acl_env"],
+        *["--conf-file", str(TRAIN / "configs" / "ppo.yml"), "-n", "128", "--eval-freq", "-1"],
+        *["--log-folder", str(tmp_path), "--hyperparams", "n_steps:64", "batch_size:64"],
+        *["--env-kwargs", *SHORT_ARGS],
+    )
+    assert list(tmp_path.rglob("vecnormalize.pkl")) and list(tmp_path.rglob("*ACLClimb-v0.zip"))

@@ -1,0 +1,251 @@
+"""Helpers shared by ``train_ppo.py`` and ``evaluate.py``: configs, env making, run folders.
+
+The configs follow the rl-baselines3-zoo format (one YAML entry per env id, ``policy_kwargs`` and
+``normalize`` possibly as Python-looking strings), so the zoo itself can train from the same file.
+The zoo ``eval``s those strings; here they are parsed by :func:`parse_python_literal`, which only
+accepts literals, ``dict(...)`` calls and ``torch.nn`` / ``torch.optim`` class names.
+"""
+
+from __future__ import annotations
+
+import ast
+import functools
+import importlib
+import math
+import signal
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+import yaml
+
+import acl_env  # noqa: F401  (registers the acl_env/* ids)
+
+MODEL_FILE = "model.zip"
+VECNORMALIZE_FILE = "vecnormalize.pkl"
+CONFIG_FILE = "config.yml"
+ARGS_FILE = "args.json"
+SUMMARY_FILE = "summary.json"
+CHECKPOINT_DIR = "checkpoints"
+CHECKPOINT_PREFIX = "model"
+
+# Config keys consumed here rather than passed to the SB3 algorithm.
+NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs")
+
+
+# --- parsing -------------------------------------------------------------------------------------
+
+
+def _resolve_torch_name(dotted: str) -> type:
+    """Map ``nn.Tanh``, ``th.nn.ReLU``, ``torch.optim.Adam`` ... to the class, nothing else."""
+    import torch
+
+    parts = dotted.split(".")
+    if parts[0] in ("th", "torch"):
+        parts = parts[1:]
+    if len(parts) == 2 and parts[0] in ("nn", "optim"):
+        module = torch.nn if parts[0] == "nn" else torch.optim
+        value = getattr(module, parts[1], None)
+        if isinstance(value, type):
+            return value
+    raise ValueError(f"unsupported name in config: {dotted!r}")
+
+
+def _eval_node(node: ast.AST) -> Any:
+    """Evaluate a restricted expression tree: literals, containers, dict(...), torch class names."""
+    if isinstance(node, ast.Constant):
+        return node.value
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+        value = _eval_node(node.operand)
+        return -value if isinstance(node.op, ast.USub) else +value
+    if isinstance(node, ast.List):
+        return [_eval_node(item) for item in node.elts]
+    if isinstance(node, ast.Tuple):
+        return tuple(_eval_node(item) for item in node.elts)
+    if isinstance(node, ast.Dict):
+        if any(key is None for key in node.keys):
+            raise ValueError("'**' unpacking is not supported in config strings")
+        return {_eval_node(k): _eval_node(v) for k, v in zip(node.keys, node.values, strict=True)}
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "dict":
+        if node.args or any(kw.arg is None for kw in node.keywords):
+            raise ValueError("dict(...) in config strings takes keyword arguments only")
+        return {kw.arg: _eval_node(kw.value) for kw in node.keywords}
+    if isinstance(node, ast.Attribute | ast.Name):
+        return _resolve_torch_name(ast.unparse(node))
+    raise ValueError(f"unsupported expression in config: {ast.unparse(node)!r}")
+
+
+def parse_python_literal(text: str) -> Any:
+    """Parse a zoo-style string such as ``"dict(log_std_init=-2, activation_fn=nn.Tanh)"``."""
+    return _eval_node(ast.parse(text.strip(), mode="eval").body)
+
+
+def parse_kv_pairs(items: Iterable[str] | None) -> dict[str, Any]:
+    """Parse zoo-style ``key:value`` arguments; values go through ``ast.literal_eval``.
+
+    A value that is not a Python literal is kept as a string (``base_gait:acl``).
+    """
+    result: dict[str, Any] = {}
+    for item in items or ():
+        key, sep, raw = item.partition(":")
+        if not sep or not key:
+            raise ValueError(f"expected key:value, got {item!r}")
+        try:
+            result[key] = ast.literal_eval(raw)
+        except (ValueError, SyntaxError):
+            result[key] = raw
+    return result
+
+
+def linear_schedule(initial: float) -> Callable[[float], float]:
+    """SB3 schedule decaying linearly from ``initial`` to 0 over training (zoo's ``lin_X``)."""
+    from stable_baselines3.common.utils import get_linear_fn
+
+    return get_linear_fn(initial, 0.0, 1.0)
+
+
+# --- configs -------------------------------------------------------------------------------------
+
+
+def load_hyperparams(path: str | Path, env_id: str) -> dict[str, Any]:
+    """Read the zoo-format YAML and return a copy of the entry for ``env_id``."""
+    with open(path) as f:
+        configs = yaml.safe_load(f)
+    if env_id not in configs:
+        known = ", ".join(k for k in configs if not k.startswith("."))
+        raise KeyError(f"no entry for {env_id!r} in {path} (entries: {known})")
+    return dict(configs[env_id])
+
+
+def save_hyperparams(path: str | Path, env_id: str, hyperparams: dict[str, Any]) -> None:
+    """Write ``{env_id: hyperparams}`` in the same zoo format, so it can be trained from again."""
+    with open(path, "w") as f:
+        yaml.safe_dump({env_id: hyperparams}, f, sort_keys=False)
+
+
+def normalize_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any] | None:
+    """VecNormalize keyword arguments from ``normalize`` (bool, dict or string), or None."""
+    value = hyperparams.get("normalize", False)
+    if isinstance(value, str):
+        value = parse_python_literal(value)
+    if value is False or value is None:
+        return None
+    kwargs = {} if value is True else dict(value)
+    if "gamma" in hyperparams:  # as the zoo does: discount the reward normaliser like the agent
+        kwargs.setdefault("gamma", float(hyperparams["gamma"]))
+    return kwargs
+
+
+def algo_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any]:
+    """Keyword arguments for the SB3 algorithm: strings parsed, ``lin_X`` made schedules."""
+    kwargs = {k: v for k, v in hyperparams.items() if k not in NON_ALGO_KEYS}
+    if isinstance(kwargs.get("policy_kwargs"), str):
+        kwargs["policy_kwargs"] = parse_python_literal(kwargs["policy_kwargs"])
+    for key in ("learning_rate", "clip_range", "clip_range_vf"):
+        value = kwargs.get(key)
+        if isinstance(value, str):
+            if not value.startswith("lin_"):
+                raise ValueError(f"{key} must be a number or 'lin_<value>', got {value!r}")
+            kwargs[key] = linear_schedule(float(value.removeprefix("lin_")))
+    return kwargs
+
+
+# --- environments --------------------------------------------------------------------------------
+
+
+def import_gym_packages(packages: Iterable[str] | None) -> None:
+    """Import extra modules that register environments (the zoo's ``--gym-packages``)."""
+    for name in packages or ():
+        importlib.import_module(name)
+
+
+def make_env(env_id: str, env_kwargs: dict[str, Any] | None = None, **extra: Any) -> gymnasium.Env:
+    """``gymnasium.make`` with the config's ``env_kwargs`` (copied, so callers keep theirs)."""
+    return gymnasium.make(env_id, **{**(env_kwargs or {}), **extra})
+
+
+def make_env_ignoring_sigint(env_id: str, **env_kwargs: Any) -> gymnasium.Env:
+    """Env factory for subprocess workers: Ctrl-C goes to the trainer only, which then saves."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return make_env(env_id, env_kwargs)
+
+
+def steps_per_cycle(env: gymnasium.Env) -> int:
+    """Env steps per nominal gait cycle (the env's ``steps_per_cycle``)."""
+    value = getattr(env.unwrapped, "steps_per_cycle", None)
+    if value is None and env.spec is not None:
+        value = env.spec.kwargs.get("steps_per_cycle")
+    if value is None:
+        raise AttributeError(f"{env.spec.id if env.spec else env} does not expose steps_per_cycle")
+    return int(value)
+
+
+# --- run folders ---------------------------------------------------------------------------------
+
+
+def latest_model(run_dir: str | Path) -> tuple[Path, Path | None]:
+    """The newest ``(model.zip, vecnormalize.pkl)`` pair in a run folder or a policy folder.
+
+    Candidates are the final/interrupted ``model.zip`` and the checkpoints; the most recently
+    written wins. The VecNormalize path is None when the run did not normalise.
+    """
+    run_dir = Path(run_dir)
+    pairs = [(run_dir / MODEL_FILE, run_dir / VECNORMALIZE_FILE)]
+    for model in (run_dir / CHECKPOINT_DIR).glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
+        steps = model.stem.removeprefix(f"{CHECKPOINT_PREFIX}_")
+        pairs.append((model, model.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}.pkl")))
+    pairs = [pair for pair in pairs if pair[0].is_file()]
+    if not pairs:
+        raise FileNotFoundError(f"no {MODEL_FILE} or checkpoint in {run_dir}")
+    model, vecnorm = max(pairs, key=lambda pair: pair[0].stat().st_mtime_ns)
+    return model, vecnorm if vecnorm.is_file() else None
+
+
+def run_config(run_dir: str | Path) -> tuple[str, dict[str, Any]] | None:
+    """``(env_id, hyperparams)`` from a run folder's ``config.yml``, or None if it has none."""
+    path = Path(run_dir) / CONFIG_FILE
+    if not path.is_file():
+        return None
+    with open(path) as f:
+        configs = yaml.safe_load(f)
+    ((env_id, hyperparams),) = configs.items()
+    return env_id, dict(hyperparams)
+
+
+# --- statistics ----------------------------------------------------------------------------------
+
+
+@functools.lru_cache(maxsize=256)
+def student_t_quantile(p: float, dof: int) -> float:
+    """Quantile of Student's t distribution without SciPy: bisection on the integrated pdf."""
+    if not 0.5 <= p < 1.0 or dof < 1:
+        raise ValueError("need 0.5 <= p < 1 and dof >= 1")
+    log_norm = math.lgamma((dof + 1) / 2) - math.lgamma(dof / 2) - 0.5 * math.log(dof * math.pi)
+
+    def cdf(x: float) -> float:
+        t = np.linspace(0.0, x, 4001)
+        pdf = np.exp(log_norm - 0.5 * (dof + 1) * np.log1p(t * t / dof))
+        return 0.5 + float(np.trapezoid(pdf, t))
+
+    lo, hi = 0.0, 1.0
+    while cdf(hi) < p:
+        lo, hi = hi, 2.0 * hi
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if cdf(mid) < p else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def mean_ci95(values: Iterable[float]) -> dict[str, Any]:
+    """Mean and two-sided 95 % confidence interval from the t distribution (NaNs dropped)."""
+    x = np.asarray([v for v in values if not math.isnan(v)], dtype=float)
+    n = len(x)
+    if n == 0:
+        return {"mean": math.nan, "ci95": [math.nan, math.nan], "half_width": math.nan, "n": 0}
+    mean = float(x.mean())
+    half = 0.0
+    if n > 1:
+        half = student_t_quantile(0.975, n - 1) * float(x.std(ddof=1)) / math.sqrt(n)
+    return {"mean": mean, "ci95": [mean - half, mean + half], "half_width": half, "n": n}

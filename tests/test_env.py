@@ -272,3 +272,31 @@ def test_rgb_render() -> None:
     assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
     assert frame.std() > 5.0  # not a blank image
     env.close()
+
+
+def test_phase_rate_option_keeps_zero_action_open_loop_and_sets_cadence() -> None:
+    """PMTG option: one more action sets the keyframes advanced per step; 0 is the open loop."""
+    plain = gym.make("acl_env/ACLClimb-v0")
+    pmtg = gym.make("acl_env/ACLClimb-v0", phase_rate_range=(0.5, 1.5))
+    assert pmtg.action_space.shape == (21,)
+    assert_same(rollout(plain, 0, np.zeros((6, 20))), rollout(pmtg, 0, np.zeros((6, 21))))
+    env = pmtg.unwrapped
+    env.reset(seed=0)
+    phase0 = env._keyframe
+    rates = []
+    for a in (1.0, -1.0, 0.5, 3.0):
+        *_, info = env.step(np.r_[np.zeros(20), a])
+        rates.append(info["phase_rate"])
+    assert rates == [1.5, 0.5, 1.25, 1.5]
+    assert env._keyframe == pytest.approx(phase0 + sum(rates))
+    # Between keyframes the base target is the linear interpolation of the table.
+    table, k = env.gait.cycle(), int(env._keyframe)
+    frac = env._keyframe - k
+    env.step(np.zeros(21))
+    np.testing.assert_allclose(env.data.ctrl, (1 - frac) * table[k] + frac * table[k + 1])
+
+
+@pytest.mark.parametrize("value", [(1.2, 1.5), (0.5, 0.9), (-0.1, 1.5), (0.5, float("nan"))])
+def test_bad_phase_rate_range_raises(value: tuple[float, float]) -> None:
+    with pytest.raises(ValueError, match="phase_rate_range"):
+        ACLClimbEnv(phase_rate_range=value)

@@ -73,6 +73,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``Box(-1, 1, (n_joints,), float32)``. Joint ``j`` target (rad) =
     ``clip(gait(phase)[j] + residual_scale * action[j], -pi/2, pi/2)``. Actions outside [-1, 1]
     are clipped; NaN or inf raises ``ValueError``. With ``base_gait="none"`` the gait term is 0.
+    With ``phase_rate_range=(low, high)`` (the PMTG option of Iscen et al. 2018, off by default)
+    the action has one more entry that sets how many keyframes the gait advances this step:
+    ``1 + a (high - 1)`` for ``a >= 0``, ``1 + a (1 - low)`` below, so a zero action is still the
+    open-loop gait; between keyframes the gait's targets are interpolated linearly.
 
     ## Observation Space
     What the robot senses (float64, ``n = n_joints``):
@@ -84,8 +88,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     | 2n .. 3n-1 | joint torques (spring deflection x kp) | N m |
     | 3n .. 3n+3 | head IMU orientation, quaternion (w, x, y, z) | - |
     | 3n+4 .. 3n+6 | head IMU angular velocity | rad/s |
-    | 3n+7, 3n+8 | cos, sin of the gait phase of the next keyframe | - |
-    | 3n+9 .. 4n+8 | base gait's target angles for the next keyframe | rad |
+    | 3n+7, 3n+8 | cos, sin of the gait phase of the next step | - |
+    | 3n+9 .. 4n+8 | base gait's target angles for the next step | rad |
     | 4n+9 .. 4n+14 | only with ``privileged_obs``: centre of mass position, velocity | m, m/s |
 
     ## Rewards
@@ -94,7 +98,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``reward_slip = -w_slip * slip``: mean sliding distance of the snake-pole contacts (m), from
     MuJoCo's contact velocities (tangential ``efc_vel`` rows), sampled 5 times per step. Weights in
     ``reward_weights`` (default 1 and 1). ``info`` carries every ``reward_<term>``, the raw
-    ``climb`` and ``slip``, ``energy`` (J of positive actuator work), ``com_height``, ``phase``.
+    ``climb`` and ``slip``, ``energy`` (J of positive actuator work), ``com_height``, ``phase``
+    (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
 
     ## Starting State
     The first keyframe (phase ``k0 / steps_per_cycle``, ``k0`` drawn from the first
@@ -131,6 +136,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     | start_phase_range | 0.05 | fraction of a cycle the start keyframe is drawn from |
     | reset_noise_scale | 0.02 | rad of joint noise at reset |
     | fall_distance | 0.2 | m of centre-of-mass drop that counts as a fall |
+    | phase_rate_range | None | (low, high) keyframes per step: lets the policy set the cadence |
 
     ``domain_randomization`` draws, at every reset, ``pole_radius``, ``friction``, ``kp`` and
     ``mass_scale`` uniformly from ``(low, high)`` ranges and adds Gaussian ``sensor_noise`` (std:
@@ -164,6 +170,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         start_phase_range: float = 0.05,
         reset_noise_scale: float = 0.02,
         fall_distance: float = 0.2,
+        phase_rate_range: tuple[float, float] | None = None,
         render_mode: str | None = None,
         width: int = 640,
         height: int = 480,
@@ -187,6 +194,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             start_phase_range,
             reset_noise_scale,
             fall_distance,
+            phase_rate_range,
             render_mode,
             width,
             height,
@@ -226,6 +234,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             raise ValueError(f"start_phase_range must be in [0, 1], got {start_phase_range}")
         self.reset_noise_scale = _finite("reset_noise_scale", reset_noise_scale)
         self.fall_distance = _positive("fall_distance", fall_distance)
+        self.phase_rate_range = _phase_rate_range(phase_rate_range)
 
         self.gait = self._make_gait(self.pole_radius)
         n = self.n_joints
@@ -242,7 +251,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             height=height,
             camera_name=camera_name,
         )
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
+        n_actions = n + (self.phase_rate_range is not None)
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         self._pole_geom = self.model.geom(POLE_GEOM).id
         self._floor_geom = self.model.geom(FLOOR_GEOM).id
         self._snake_geoms = snake_geom_ids(self.model, n)
@@ -263,6 +273,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._table = self._gait_table()
         self._step_count = 0
         self._k0 = 0
+        self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
         self._com_start = 0.0
 
     # -- construction -------------------------------------------------------------------------
@@ -297,6 +308,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._table = self._gait_table()
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
+        self._keyframe = float(self._k0)
         self._step_count = 0
         # "none" starts from the ACL gait's pose: the ablation must still begin on the pole.
         start_gait = self.gait or self._make_gait(pole_radius, "acl")
@@ -380,13 +392,18 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         action = np.asarray(action, dtype=np.float64)
-        if action.shape != (self.n_joints,):
-            raise ValueError(f"action must have shape ({self.n_joints},), got {action.shape}")
+        if action.shape != self.action_space.shape:
+            raise ValueError(
+                f"action must have shape {self.action_space.shape}, got {action.shape}"
+            )
         if not np.all(np.isfinite(action)):
             raise ValueError(f"action must be finite, got {action}")
-        k = (self._k0 + self._step_count) % self.steps_per_cycle
-        residual = self.residual_scale * np.clip(action, -1.0, 1.0)
-        target = np.clip(self._table[k] + residual, -JOINT_LIMIT, JOINT_LIMIT)
+        action = np.clip(action, -1.0, 1.0)
+        base = self._base_target()
+        residual = self.residual_scale * action[: self.n_joints]
+        target = np.clip(base + residual, -JOINT_LIMIT, JOINT_LIMIT)
+        rate = self._phase_rate(action)
+        phase = self._keyframe / self.steps_per_cycle
 
         model, data = self.model, self.data
         com_before = self._com()[2]
@@ -404,6 +421,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             grounded |= on_floor
             energy += float(np.sum(np.abs(data.actuator_force * data.qvel[6:]))) * sample_dt
         self._step_count += 1
+        self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
         unstable = int(data.warning.number.sum()) > warnings_before or not (
             np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))
@@ -426,7 +444,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             "slip": slip,
             "energy": energy,
             "com_height": float(com[2]),
-            "phase": k / self.steps_per_cycle,
+            "phase": phase,
+            "phase_rate": rate,
             "fell": fell,
             "unstable": unstable,
         }
@@ -434,6 +453,23 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         if self.render_mode == "human":
             self.render()
         return obs, reward, terminated, truncated, info
+
+    def _base_target(self) -> np.ndarray:
+        """The base gait's joint targets at the current phase: a table row, or between two rows
+        (linear) when the phase rate is modulated."""
+        k = int(self._keyframe)
+        frac = self._keyframe - k
+        if frac == 0.0:
+            return self._table[k]
+        return (1.0 - frac) * self._table[k] + frac * self._table[(k + 1) % self.steps_per_cycle]
+
+    def _phase_rate(self, action: np.ndarray) -> float:
+        """Keyframes the gait advances this step: 1, or set by the last action (PMTG option)."""
+        if self.phase_rate_range is None:
+            return 1.0
+        lo, hi = self.phase_rate_range
+        a = float(action[self.n_joints])
+        return 1.0 + a * (hi - 1.0 if a >= 0.0 else 1.0 - lo)
 
     def _com(self) -> np.ndarray:
         """Centre of mass of the snake (the subtree of its root link)."""
@@ -462,8 +498,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
     def _get_obs(self) -> np.ndarray:
         data = self.data
-        k = (self._k0 + self._step_count) % self.steps_per_cycle
-        angle = 2.0 * np.pi * k / self.steps_per_cycle
+        angle = 2.0 * np.pi * self._keyframe / self.steps_per_cycle
         parts = [
             data.qpos[7:],
             data.qvel[6:],
@@ -471,7 +506,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             data.sensordata[self._imu_quat],
             data.sensordata[self._imu_gyro],
             [math.cos(angle), math.sin(angle)],
-            self._table[k],
+            self._base_target(),
         ]
         if self.privileged_obs:
             parts += [self._com(), data.cvel[self._root_body][3:]]
@@ -514,6 +549,16 @@ def _positive(name: str, value: float, given: float | None = None) -> float:
     if value <= 0.0:
         raise ValueError(f"{name} must be positive, got {value}")
     return value
+
+
+def _phase_rate_range(value: tuple[float, float] | None) -> tuple[float, float] | None:
+    """Validated (low, high) keyframes per step; None keeps the gait's cadence fixed."""
+    if value is None:
+        return None
+    lo, hi = (_finite("phase_rate_range", v) for v in value)
+    if not 0.0 <= lo <= 1.0 <= hi:
+        raise ValueError(f"phase_rate_range must satisfy 0 <= low <= 1 <= high, got {value}")
+    return (lo, hi)
 
 
 def _reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:

@@ -203,8 +203,9 @@ def test_resume_continues_the_run(trained_run: Path) -> None:
 
 
 @pytest.mark.slow
-def test_ctrl_c_saves_the_model(tmp_path: Path) -> None:
-    """SIGINT during learning saves model and VecNormalize, then exits cleanly."""
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_ctrl_c_saves_the_model(tmp_path: Path, signum: signal.Signals) -> None:
+    """SIGINT (Ctrl-C) or SIGTERM during learning saves model and VecNormalize, exits cleanly."""
     run_root, log = tmp_path / "runs", tmp_path / "train.log"
     with open(log, "w") as out:
         proc = subprocess.Popen(
@@ -215,7 +216,7 @@ def test_ctrl_c_saves_the_model(tmp_path: Path) -> None:
         while not list(run_root.rglob("model_*_steps.zip")):  # learning has started
             assert proc.poll() is None and time.monotonic() < deadline, log.read_text()[-3000:]
             time.sleep(0.2)
-        proc.send_signal(signal.SIGINT)
+        proc.send_signal(signum)
         assert proc.wait(timeout=60) == 0, log.read_text()[-3000:]
     finally:
         if proc.poll() is None:

@@ -166,9 +166,11 @@ def make_env(env_id: str, env_kwargs: dict[str, Any] | None = None, **extra: Any
     return gymnasium.make(env_id, **{**(env_kwargs or {}), **extra})
 
 
-def make_env_ignoring_sigint(env_id: str, **env_kwargs: Any) -> gymnasium.Env:
-    """Env factory for subprocess workers: Ctrl-C goes to the trainer only, which then saves."""
+def make_worker_env(env_id: str, **env_kwargs: Any) -> gymnasium.Env:
+    """Env factory for subprocess workers: Ctrl-C and SIGTERM (to the whole process group) go to
+    the trainer only, which saves and then closes the workers (orphans exit on a closed pipe)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     return make_env(env_id, env_kwargs)
 
 

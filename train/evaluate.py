@@ -98,9 +98,11 @@ Actor = Callable[[np.ndarray], np.ndarray]
 def load_policy(policy_dir: str | Path, env: Any) -> Actor:
     """Deterministic actions of the newest model in ``policy_dir``, observations normalised by its
     VecNormalize statistics frozen (``training=False``, ``norm_reward=False``)."""
+    import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
+    torch.set_num_threads(1)  # one small MLP forward per step; threads would fight the workers
     model_path, vecnorm_path = latest_model(policy_dir)
     model = PPO.load(model_path, device="cpu")
     normalize: Callable[[np.ndarray], np.ndarray] = lambda obs: obs  # noqa: E731
@@ -172,9 +174,6 @@ def _env_and_actor(controller: Controller) -> tuple[Any, Actor]:
 
 def _run_task(controller: Controller, seed: int, gym_packages: tuple[str, ...]) -> Episode:
     """Worker task: one episode of one controller."""
-    import torch
-
-    torch.set_num_threads(1)
     import_gym_packages(gym_packages)
     env, actor = _env_and_actor(controller)
     return run_episode(env, actor, seed)

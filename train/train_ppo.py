@@ -10,7 +10,7 @@ env steps/s), ``checkpoints/`` and TensorBoard logs (``tb/``).
     python train/train_ppo.py --resume runs/<run> --n-timesteps 200000
     tensorboard --logdir runs
 
-Ctrl-C stops training and saves the model and the VecNormalize statistics first.
+Ctrl-C (or SIGTERM) stops training and saves the model and the VecNormalize statistics first.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import functools
 import json
+import signal
 import sys
 import time
 from collections import defaultdict
@@ -25,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import torch
 from common import (
     ARGS_FILE,
     CHECKPOINT_DIR,
@@ -37,7 +39,7 @@ from common import (
     import_gym_packages,
     latest_model,
     load_hyperparams,
-    make_env_ignoring_sigint,
+    make_worker_env,
     normalize_kwargs,
     parse_kv_pairs,
     run_config,
@@ -115,6 +117,13 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--checkpoint-freq", type=int, default=100_000, help="env steps")
     parser.add_argument("--gym-packages", nargs="*", default=[], help="modules registering envs")
     parser.add_argument("--device", default="cpu", help="torch device (MLP policies: cpu)")
+    parser.add_argument(
+        "--torch-threads",
+        type=int,
+        default=1,
+        help="torch CPU threads; 1 because the env workers own the cores (2 threads were 10x "
+        "slower on a loaded 2-core machine)",
+    )
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser.parse_args(argv)
 
@@ -147,12 +156,17 @@ def make_training_env(env_id: str, hyperparams: dict[str, Any], seed: int) -> Ve
     """Monitored envs in subprocesses (one process per env; in-process when there is one)."""
     n_envs = int(hyperparams.get("n_envs", 1))
     return make_vec_env(
-        functools.partial(make_env_ignoring_sigint, env_id) if n_envs > 1 else env_id,
+        functools.partial(make_worker_env, env_id) if n_envs > 1 else env_id,
         n_envs=n_envs,
         seed=seed,
         env_kwargs=hyperparams.get("env_kwargs") or {},
         vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
     )
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    """SIGTERM handler: stop like Ctrl-C, so that the model is saved."""
+    raise KeyboardInterrupt
 
 
 def new_run_dir(args: argparse.Namespace, env_id: str) -> Path:
@@ -188,6 +202,7 @@ def train(args: argparse.Namespace) -> Path:
     """Build or resume the run, learn, save; return the run folder."""
     import_gym_packages(args.gym_packages)
     env_id, hyperparams = merged_config(args)
+    torch.set_num_threads(args.torch_threads)
     n_timesteps = int(hyperparams["n_timesteps"])
     set_random_seed(args.seed)
     env = make_training_env(env_id, hyperparams, args.seed)
@@ -224,6 +239,7 @@ def train(args: argparse.Namespace) -> Path:
         name_prefix=CHECKPOINT_PREFIX,
         save_vecnormalize=True,
     )
+    signal.signal(signal.SIGTERM, _interrupt)
     start_steps = model.num_timesteps
     start = time.perf_counter()
     interrupted = False
@@ -254,6 +270,7 @@ def train(args: argparse.Namespace) -> Path:
         "wall_time_s": wall,
         "env_steps_per_s": steps / wall if wall > 0 else 0.0,
         "n_envs": env.num_envs,
+        "torch_threads": torch.get_num_threads(),
         "interrupted": interrupted,
     }
     (run_dir / SUMMARY_FILE).write_text(json.dumps(summary, indent=2) + "\n")

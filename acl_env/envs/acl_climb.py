@@ -28,6 +28,7 @@ from acl_env.model import (
     link_name,
     snake_geom_ids,
 )
+from acl_env.validation import check_finite, check_int, check_positive
 
 GAITS: dict[str, type[Gait] | None] = {
     "acl": ACLGait,
@@ -202,38 +203,32 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         )
         if base_gait not in GAITS:
             raise ValueError(f"base_gait must be one of {sorted(GAITS)}, got {base_gait!r}")
-        if int(n_joints) != n_joints or n_joints < 3:
-            raise ValueError(f"n_joints must be an integer >= 3, got {n_joints}")
-        if int(steps_per_cycle) != steps_per_cycle or steps_per_cycle < 2:
-            raise ValueError(f"steps_per_cycle must be an integer >= 2, got {steps_per_cycle}")
-        if int(cycles_per_episode) != cycles_per_episode or cycles_per_episode < 1:
-            raise ValueError(
-                f"cycles_per_episode must be an integer >= 1, got {cycles_per_episode}"
-            )
         self.base_gait = base_gait
         self.gait_kwargs = dict(gait_kwargs or {})
         for key in ("n_joints", "steps_per_cycle"):
             if key in self.gait_kwargs:
                 raise ValueError(f"gait_kwargs must not set {key!r}: pass it to the env instead")
         default_scale = JOINT_LIMIT if base_gait == "none" else 0.2
-        self.residual_scale = _positive("residual_scale", default_scale, residual_scale)
-        self.n_joints = int(n_joints)
-        self.pole_radius = _positive("pole_radius", pole_radius)
+        self.residual_scale = check_positive(
+            "residual_scale", default_scale if residual_scale is None else residual_scale
+        )
+        self.n_joints = check_int("n_joints", n_joints, 3)
+        self.pole_radius = check_positive("pole_radius", pole_radius)
         if self.pole_radius + MODULE_RADIUS - squeeze <= 0.0:
             raise ValueError(f"squeeze={squeeze} leaves no helix radius for this pole")
-        self.friction = _positive("friction", friction)
-        self.kp = _positive("kp", kp)
-        self.squeeze = _finite("squeeze", squeeze)
-        self.steps_per_cycle = int(steps_per_cycle)
-        self.cycles_per_episode = int(cycles_per_episode)
+        self.friction = check_positive("friction", friction)
+        self.kp = check_positive("kp", kp)
+        self.squeeze = check_finite("squeeze", squeeze)
+        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2)
+        self.cycles_per_episode = check_int("cycles_per_episode", cycles_per_episode, 1)
         self.reward_weights = _reward_weights(reward_weights)
         self.randomization = _randomization(domain_randomization)
         self.privileged_obs = bool(privileged_obs)
-        self.start_phase_range = _finite("start_phase_range", start_phase_range)
+        self.start_phase_range = check_finite("start_phase_range", start_phase_range)
         if not 0.0 <= self.start_phase_range <= 1.0:
             raise ValueError(f"start_phase_range must be in [0, 1], got {start_phase_range}")
-        self.reset_noise_scale = _finite("reset_noise_scale", reset_noise_scale)
-        self.fall_distance = _positive("fall_distance", fall_distance)
+        self.reset_noise_scale = check_finite("reset_noise_scale", reset_noise_scale)
+        self.fall_distance = check_positive("fall_distance", fall_distance)
         self.phase_rate_range = _phase_rate_range(phase_rate_range)
 
         self.gait = self._make_gait(self.pole_radius)
@@ -534,28 +529,11 @@ def _min_axis_distance(points: np.ndarray) -> float:
     return float(np.linalg.norm(samples[..., :2], axis=-1).min())
 
 
-def _finite(name: str, value: float) -> float:
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value}")
-    return value
-
-
-def _positive(name: str, value: float, given: float | None = None) -> float:
-    """Validate a positive parameter; with ``given`` the first argument is its default."""
-    if given is not None:
-        value = given
-    value = _finite(name, value)
-    if value <= 0.0:
-        raise ValueError(f"{name} must be positive, got {value}")
-    return value
-
-
 def _phase_rate_range(value: tuple[float, float] | None) -> tuple[float, float] | None:
     """Validated (low, high) keyframes per step; None keeps the gait's cadence fixed."""
     if value is None:
         return None
-    lo, hi = (_finite("phase_rate_range", v) for v in value)
+    lo, hi = (check_finite("phase_rate_range", v) for v in value)
     if not 0.0 <= lo <= 1.0 <= hi:
         raise ValueError(f"phase_rate_range must satisfy 0 <= low <= 1 <= high, got {value}")
     return (lo, hi)
@@ -569,7 +547,7 @@ def _reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:
             f"reward_weights has unknown terms {sorted(unknown)}; "
             f"known: {sorted(DEFAULT_REWARD_WEIGHTS)}"
         )
-    return {key: _finite(f"reward_weights[{key!r}]", value) for key, value in merged.items()}
+    return {key: check_finite(f"reward_weights[{key!r}]", value) for key, value in merged.items()}
 
 
 def _randomization(spec: bool | Mapping[str, Any] | None) -> dict[str, Any]:
@@ -587,12 +565,12 @@ def _randomization(spec: bool | Mapping[str, Any] | None) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, value in spec.items():
         if key == "sensor_noise":
-            noise = _finite("domain_randomization['sensor_noise']", value)
+            noise = check_finite("domain_randomization['sensor_noise']", value)
             if noise < 0.0:
                 raise ValueError(f"domain_randomization['sensor_noise'] must be >= 0, got {noise}")
             out[key] = noise
             continue
-        lo, hi = (_finite(f"domain_randomization[{key!r}]", v) for v in value)
+        lo, hi = (check_finite(f"domain_randomization[{key!r}]", v) for v in value)
         if not 0.0 < lo <= hi:
             raise ValueError(f"domain_randomization[{key!r}] must be 0 < low <= high, got {value}")
         out[key] = (lo, hi)

@@ -11,7 +11,6 @@ Both gaits are periodic in ``phase`` (cycles). ``phi_0`` rolls the body once per
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -25,6 +24,7 @@ from acl_env.gait.curves import (
     surface_frame_offset,
 )
 from acl_env.gait.kinematics import count_body_rolls
+from acl_env.validation import check_finite, check_int, check_positive
 
 SEA_MODULE_LENGTH = 0.0639  # m, joint to joint
 SEA_MODULE_DIAMETER = 0.0508  # m
@@ -56,27 +56,6 @@ class Saturation:
     max_excess: float  # largest |angle| - limit before clipping (rad), 0 if none
 
 
-def _check_finite(name: str, value: float) -> float:
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value}")
-    return value
-
-
-def _check_positive(name: str, value: float) -> float:
-    value = _check_finite(name, value)
-    if value <= 0.0:
-        raise ValueError(f"{name} must be positive, got {value}")
-    return value
-
-
-def _check_int(name: str, value: float, minimum: int) -> int:
-    """An integer-valued ``value >= minimum``; NaN and inf fail with a message naming ``name``."""
-    if not (math.isfinite(float(value)) and int(value) == value and value >= minimum):
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value}")
-    return int(value)
-
-
 class Gait:
     """Shared machinery: validation, roll offset, clipping, the cached keyframe table."""
 
@@ -90,18 +69,18 @@ class Gait:
         steps_per_cycle: int,
         module_diameter: float = SEA_MODULE_DIAMETER,
     ) -> None:
-        self.n_joints = _check_int("n_joints", n_joints, 3)
-        self.steps_per_cycle = _check_int("steps_per_cycle", steps_per_cycle, 2)
-        self.module_length = _check_positive("module_length", module_length)
-        self.module_diameter = _check_positive("module_diameter", module_diameter)
-        self.radius = _check_positive("radius", radius)
-        self.pitch = _check_positive("pitch", pitch)
+        self.n_joints = check_int("n_joints", n_joints, 3)
+        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2)
+        self.module_length = check_positive("module_length", module_length)
+        self.module_diameter = check_positive("module_diameter", module_diameter)
+        self.radius = check_positive("radius", radius)
+        self.pitch = check_positive("pitch", pitch)
         if self.pitch < self.module_diameter:
             raise ValueError(
                 f"pitch must be at least one module diameter ({self.module_diameter} m) so that "
                 f"adjacent turns do not collide, got {self.pitch}"
             )
-        self.rolls_per_cycle = _check_finite("rolls_per_cycle", rolls_per_cycle)
+        self.rolls_per_cycle = check_finite("rolls_per_cycle", rolls_per_cycle)
         if self.rolls_per_cycle != round(self.rolls_per_cycle):
             # phi_0 must return to itself mod 2 pi after one cycle, or phase + 1 != phase and the
             # keyframe table jumps when it wraps around.
@@ -134,13 +113,13 @@ class Gait:
 
     def joint_angles(self, phase: float) -> np.ndarray:
         """Joint angles (rad) at ``phase`` (cycles), head joint first, clipped to +-90 deg."""
-        phase = _check_finite("phase", phase)
+        phase = check_finite("phase", phase)
         raw = self.raw_angles(np.array([phase]))[0]
         return np.clip(raw, -self.joint_limit, self.joint_limit)
 
     def backbone(self, phase: float) -> np.ndarray:
         """Target curve points (m) at the joints' arc lengths, shape ``(n_joints, 3)``, pole = z."""
-        return self.backbones(np.array([_check_finite("phase", phase)]))[0]
+        return self.backbones(np.array([check_finite("phase", phase)]))[0]
 
     @cached_property
     def _raw_cycle(self) -> np.ndarray:
@@ -268,20 +247,20 @@ class ACLGait(Gait):
             steps_per_cycle,
             module_diameter,
         )
-        amp_pitch = _check_finite("amp_pitch", amp_pitch)
-        amp_radial = _check_finite("amp_radial", amp_radial)
+        amp_pitch = check_finite("amp_pitch", amp_pitch)
+        amp_radial = check_finite("amp_radial", amp_radial)
         if amp_pitch < 0.0:
             raise ValueError(f"amp_pitch must be >= 0, got {amp_pitch}")
         if not 0.0 <= amp_radial < self.radius:
             raise ValueError(f"amp_radial must be in [0, radius={self.radius}), got {amp_radial}")
-        n_samples = _check_int("n_samples", n_samples, 100)
+        n_samples = check_int("n_samples", n_samples, 100)
         self.curve = PitchVaryingHelix(
             radius=self.radius,
             pitch=self.pitch,
             amp_pitch=amp_pitch,
-            spatial_freq=_check_finite("spatial_freq", spatial_freq),
+            spatial_freq=check_finite("spatial_freq", spatial_freq),
             amp_radial=amp_radial,
-            radial_freq=_check_finite("radial_freq", radial_freq),
+            radial_freq=check_finite("radial_freq", radial_freq),
         )
         self.n_samples = int(n_samples)
         self._frame_offset_0 = float(

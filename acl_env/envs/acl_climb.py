@@ -251,8 +251,13 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._pole_geom = self.model.geom(POLE_GEOM).id
         self._floor_geom = self.model.geom(FLOOR_GEOM).id
         self._snake_geoms = snake_geom_ids(self.model, n)
-        self._is_snake_geom = np.zeros(self.model.ngeom, dtype=bool)
-        self._is_snake_geom[self._snake_geoms] = True
+        # Contact pair (g1, g2) -> 1 snake-pole, 2 snake-floor, 0 other, via key g1 * ngeom + g2.
+        ngeom = self.model.ngeom
+        self._pair_key = np.array([ngeom, 1])
+        self._pair_kind = np.zeros(ngeom * ngeom, dtype=np.int8)
+        for other, code in ((self._pole_geom, 1), (self._floor_geom, 2)):
+            self._pair_kind[self._snake_geoms * ngeom + other] = code
+            self._pair_kind[other * ngeom + self._snake_geoms] = code
         self._snake_bodies = np.array([self.model.body(link_name(k)).id for k in range(n + 1)])
         self._root_body = self._snake_bodies[0]
         self._imu_quat = _sensor_slice(self.model, IMU_QUAT_SENSOR)
@@ -414,7 +419,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             slip += speed * sample_dt
             touched |= on_pole
             grounded |= on_floor
-            energy += float(np.sum(np.abs(data.actuator_force * data.qvel[6:]))) * sample_dt
+            energy += float(np.abs(data.actuator_force) @ np.abs(data.qvel[6:])) * sample_dt
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
@@ -480,16 +485,16 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         if ncon == 0:
             return 0.0, False, False
         contact = self.data.contact
-        geoms = contact.geom[:ncon]
-        snake = self._is_snake_geom[geoms].any(axis=1) & (contact.efc_address[:ncon] >= 0)
-        on_floor = bool(np.any(snake & ((geoms == self._floor_geom).any(axis=1))))
-        on_pole = snake & (geoms == self._pole_geom).any(axis=1)
-        if not on_pole.any():
+        # One lookup of what each contact is (see __init__): hot path, 5 calls per step.
+        kind = self._pair_kind[contact.geom[:ncon] @ self._pair_key]
+        kind[contact.efc_address[:ncon] < 0] = 0  # excluded by a constraint: not active
+        on_floor = bool((kind == 2).any())
+        rows = contact.efc_address[:ncon][kind == 1]
+        if rows.size == 0:
             return 0.0, False, on_floor
-        rows = contact.efc_address[:ncon][on_pole]
         vel = self.data.efc_vel
         speed = np.hypot(vel[rows + 1], vel[rows + 2])
-        return float(speed.mean()), True, on_floor
+        return float(speed.sum()) / rows.size, True, on_floor
 
     def _get_obs(self) -> np.ndarray:
         data = self.data

@@ -1,0 +1,70 @@
+"""Plot learning curves of training runs from their TensorBoard logs.
+
+    python train/plot_learning_curves.py runs/<run_a> runs/<run_b> --labels A B --out curves.png
+
+Panels: episode climb (m), contact slip per step (m), episode return (normalised reward) and the
+policy's action std, against environment steps. ``--json PATH`` also writes the curves.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+PANELS = {
+    "charts/episode_climb": "episode climb (m)",
+    "charts/slip": "slip per step (m)",
+    "rollout/ep_rew_mean": "episode return",
+    "train/std": "action std",
+}
+
+
+def read_curves(run_dir: str | Path) -> dict[str, list[tuple[int, float]]]:
+    """Scalars of ``PANELS`` from every TensorBoard event file under ``run_dir``, by step."""
+    curves: dict[str, dict[int, float]] = {tag: {} for tag in PANELS}
+    for events in sorted(Path(run_dir).rglob("events.out.tfevents*")):
+        acc = EventAccumulator(str(events), size_guidance={"scalars": 0})
+        acc.Reload()
+        for tag in PANELS:
+            if tag in acc.Tags()["scalars"]:
+                curves[tag].update({e.step: e.value for e in acc.Scalars(tag)})
+    return {tag: sorted(points.items()) for tag, points in curves.items()}
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+", help="run folders (with tb/ logs)")
+    parser.add_argument("--labels", nargs="*", help="one label per run (default: folder names)")
+    parser.add_argument("--out", required=True, help="image file")
+    parser.add_argument("--json", help="write the curves as JSON")
+    args = parser.parse_args(argv)
+    labels = args.labels or [Path(run).name for run in args.runs]
+    if len(labels) != len(args.runs):
+        parser.error("--labels needs one label per run")
+    data = {label: read_curves(run) for label, run in zip(labels, args.runs, strict=True)}
+    fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.4))
+    for ax, (tag, title) in zip(axes, PANELS.items(), strict=True):
+        for label, curves in data.items():
+            if curves[tag]:
+                steps, values = zip(*curves[tag], strict=True)
+                ax.plot(steps, values, label=label, lw=1.2)
+        ax.set_title(title)
+        ax.set_xlabel("env steps")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(args.out, dpi=110)
+    print(f"wrote {args.out}")
+    if args.json:
+        Path(args.json).write_text(json.dumps(data))
+
+
+if __name__ == "__main__":
+    main()

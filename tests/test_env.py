@@ -14,7 +14,7 @@ from gymnasium.utils.env_checker import check_env
 import acl_env  # noqa: F401  (registers the ids)
 from acl_env.envs import ACLClimbEnv
 from acl_env.gait.kinematics import rigid_fit
-from acl_env.model import joint_name
+from acl_env.model import POLE_GEOM, joint_name
 
 ENV_IDS = ["acl_env/ACLClimb-v0", "acl_env/RollingHelixClimb-v0"]
 SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}
@@ -56,7 +56,10 @@ def test_sb3_check_env() -> None:
     from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
     env = gym.make("acl_env/ACLClimb-v0", **SHORT)
-    sb3_check_env(env.unwrapped, warn=True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sb3_check_env(env.unwrapped, warn=True)
+    assert not [str(w.message) for w in caught]
     env.close()
 
 
@@ -106,7 +109,7 @@ def test_zero_action_is_the_open_loop_gait_and_residual_is_clipped() -> None:
     env = gym.make("acl_env/ACLClimb-v0", residual_scale=0.3).unwrapped
     env.reset(seed=0)
     table = env.gait.cycle()
-    k = env._k0
+    k = env._k0 + 1  # the reset ramp ends holding keyframe k0; the first step plays the next
     env.step(np.zeros(20, dtype=np.float32))
     np.testing.assert_array_equal(env.data.ctrl, table[k])
     # target = clip(gait + scale * clip(action, -1, 1), joint range)
@@ -216,7 +219,7 @@ def test_domain_randomization_varies_physics_deterministically() -> None:
     radii = []
     for seed in (0, 1, 0):
         env.reset(seed=seed)
-        radii.append(float(env.model.geom_size[env.model.geom("pole").id, 0]))
+        radii.append(float(env.model.geom_size[env.model.geom(POLE_GEOM).id, 0]))
         lo, hi = env.randomization["pole_radius"]
         assert lo <= radii[-1] <= hi
         assert env.gait.radius == pytest.approx(radii[-1] + 0.0254 - env.squeeze)
@@ -228,7 +231,7 @@ def test_domain_randomization_varies_physics_deterministically() -> None:
 
 def test_weak_springs_fall_off_and_terminate() -> None:
     """DESIGN.md: kp = 2 N m/rad cannot hold the pole; the env must say the snake fell."""
-    env = ACLClimbEnv(kp=1.0)
+    env = ACLClimbEnv(kp=2.0)
     env.reset(seed=0)
     for _ in range(200):
         _, _, terminated, _, info = env.step(np.zeros(20))
@@ -300,3 +303,62 @@ def test_phase_rate_option_keeps_zero_action_open_loop_and_sets_cadence() -> Non
 def test_bad_phase_rate_range_raises(value: tuple[float, float]) -> None:
     with pytest.raises(ValueError, match="phase_rate_range"):
         ACLClimbEnv(phase_rate_range=value)
+
+
+def test_mass_randomization_keeps_the_centre_of_mass() -> None:
+    """Scaling every module's mass moves no centre of mass (subtree masses recomputed)."""
+    heavy = ACLClimbEnv(domain_randomization={"mass_scale": (1.1, 1.1)}, reset_noise_scale=0.0)
+    plain = ACLClimbEnv(reset_noise_scale=0.0)
+    for env in (heavy, plain):
+        env.reset(seed=0)
+        env.data.qpos[:] = plain.init_qpos
+        mujoco.mj_forward(env.model, env.data)
+    np.testing.assert_allclose(heavy._com(), plain._com(), atol=1e-12)
+
+
+def test_randomized_pole_radius_equals_configured_pole() -> None:
+    """A 0.09 m pole drawn by domain randomisation simulates like pole_radius=0.09."""
+    drawn = ACLClimbEnv(domain_randomization={"pole_radius": (0.09, 0.09)})
+    built = ACLClimbEnv(pole_radius=0.09)
+    drawn.reset(seed=0)
+    built.reset(seed=0)
+    pole = built.model.geom(POLE_GEOM).id
+    for field in ("geom_size", "geom_rbound", "geom_aabb"):
+        np.testing.assert_allclose(
+            getattr(drawn.model, field)[pole], getattr(built.model, field)[pole]
+        )
+    drawn.set_state(built.data.qpos.copy(), built.data.qvel.copy())
+    drawn._keyframe = built._keyframe
+    for _ in range(20):
+        obs_a, *_, info_a = drawn.step(np.zeros(20))
+        obs_b, *_, info_b = built.step(np.zeros(20))
+        np.testing.assert_allclose(obs_a, obs_b, rtol=0, atol=1e-9)
+    assert info_a["climb"] == pytest.approx(info_b["climb"], abs=1e-12)
+
+
+def test_privileged_obs_is_centre_of_mass_state() -> None:
+    env = ACLClimbEnv(privileged_obs=True)
+    obs, info = env.reset(seed=0)
+    assert obs.shape == (95,)
+    assert obs[-4] == pytest.approx(info["com_height"])
+    heights = []
+    for _ in range(3):
+        obs, *_, info = env.step(np.zeros(20))
+        heights.append(info["com_height"])
+    mujoco.mj_subtreeVel(env.model, env.data)
+    np.testing.assert_allclose(obs[-3:], env.data.subtree_linvel[1], atol=1e-12)
+    # The velocity is the centre of mass's: about 0.2 m per 22 s cycle upward, not a link's.
+    assert abs(obs[-1]) < 0.05
+
+
+def test_energy_is_absolute_actuator_work() -> None:
+    env = ACLClimbEnv()
+    env.reset(seed=0)
+    *_, info = env.step(np.zeros(20))
+    assert info["energy"] > 0.0
+    # Holding still (gravity off, target = current pose) costs almost nothing.
+    env.model.opt.gravity[:] = 0.0
+    env.data.qvel[:] = 0.0
+    env._table = np.tile(env.data.qpos[7:], (env.steps_per_cycle, 1))
+    *_, info = env.step(np.zeros(20))
+    assert info["energy"] < 1e-2

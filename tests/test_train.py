@@ -103,7 +103,10 @@ def test_config_entries_build_ppo_arguments() -> None:
     for env_id in (ACL_ID, HELIX_ID):
         hyperparams = common.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
         kwargs = common.algo_kwargs(hyperparams)
-        assert -2.5 <= kwargs["policy_kwargs"]["log_std_init"] <= -1.5
+        # Initial joint noise = action std x residual_scale: at most 0.03 rad, which the open-loop
+        # gait shrugs off (ppo.yml's comment has the measurements).
+        std = math.exp(kwargs["policy_kwargs"]["log_std_init"])
+        assert std * hyperparams["env_kwargs"]["residual_scale"] <= 0.03
         assert 0.99 <= kwargs["gamma"] < 1.0
         assert common.normalize_kwargs(hyperparams) == {
             "norm_obs": True,

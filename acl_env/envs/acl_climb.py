@@ -86,7 +86,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     |---|---|---|
     | 0 .. n-1 | joint angles | rad |
     | n .. 2n-1 | joint velocities | rad/s |
-    | 2n .. 3n-1 | joint torques (spring deflection x kp) | N m |
+    | 2n .. 3n-1 | joint torques (servo output: kp x deflection + damping) | N m |
     | 3n .. 3n+3 | head IMU orientation, quaternion (w, x, y, z) | - |
     | 3n+4 .. 3n+6 | head IMU angular velocity | rad/s |
     | 3n+7, 3n+8 | cos, sin of the gait phase of the next step | - |
@@ -99,7 +99,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``reward_slip = -w_slip * slip``: mean sliding distance of the snake-pole contacts (m), from
     MuJoCo's contact velocities (tangential ``efc_vel`` rows), sampled 5 times per step. Weights in
     ``reward_weights`` (default 1 and 1). ``info`` carries every ``reward_<term>``, the raw
-    ``climb`` and ``slip``, ``energy`` (J of positive actuator work), ``com_height``, ``phase``
+    ``climb`` and ``slip``, ``energy`` (J: actuator work sum |tau qdot| dt, as spent by motors
+    that do not regenerate), ``com_height``, ``phase``
     (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
 
     ## Starting State
@@ -263,8 +264,6 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._imu_quat = _sensor_slice(self.model, IMU_QUAT_SENSOR)
         self._imu_gyro = _sensor_slice(self.model, IMU_GYRO_SENSOR)
         self._nominal = {
-            "pole_size": self.model.geom_size[self._pole_geom].copy(),
-            "pole_rbound": float(self.model.geom_rbound[self._pole_geom]),
             "mass": self.model.body_mass[self._snake_bodies].copy(),
             "inertia": self.model.body_inertia[self._snake_bodies].copy(),
         }
@@ -308,7 +307,6 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._table = self._gait_table()
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
-        self._keyframe = float(self._k0)
         self._step_count = 0
         # "none" starts from the ACL gait's pose: the ablation must still begin on the pole.
         start_gait = self.gait or self._make_gait(pole_radius, "acl")
@@ -324,6 +322,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         qpos[7:] = np.clip(angles, -JOINT_LIMIT, JOINT_LIMIT)
         self.set_state(qpos, np.zeros(self.model.nv))
         self._ramp_in(qpos[7:].copy(), start_gait.cycle()[self._k0])
+        # The ramp ends holding keyframe k0: the first step plays the next one.
+        self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
         self._com_start = self._com()[2]
         return self._get_obs()
 
@@ -372,9 +372,6 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         pole_radius = float(rng.uniform(*dr["pole_radius"])) if "pole_radius" in dr else None
         pole_radius = pole_radius or self.pole_radius
         model.geom_size[self._pole_geom, 0] = pole_radius
-        model.geom_rbound[self._pole_geom] = (
-            self._nominal["pole_rbound"] - self._nominal["pole_size"][0] + pole_radius
-        )
         friction = float(rng.uniform(*dr["friction"])) if "friction" in dr else self.friction
         model.geom_friction[self._snake_geoms, 0] = friction
         model.geom_friction[self._pole_geom, 0] = friction
@@ -384,6 +381,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         scale = float(rng.uniform(*dr["mass_scale"])) if "mass_scale" in dr else 1.0
         model.body_mass[self._snake_bodies] = self._nominal["mass"] * scale
         model.body_inertia[self._snake_bodies] = self._nominal["inertia"] * scale
+        # Recompute what the compiler derived from sizes and masses: the broadphase bounds of the
+        # pole (geom_rbound, geom_aabb) and the subtree masses that subtree_com divides by.
+        mujoco.mj_setConst(model, self.data)
         self._sensor_noise = float(dr.get("sensor_noise", 0.0))
         self._kp_now = kp
         return pole_radius
@@ -407,7 +407,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
         model, data = self.model, self.data
         com_before = self._com()[2]
-        warnings_before = int(data.warning.number.sum())
+        warnings_before, time_before = int(data.warning.number.sum()), data.time
         data.ctrl[:] = target
         substeps = self.frame_skip // SLIP_SAMPLES
         sample_dt = substeps * model.opt.timestep
@@ -423,7 +423,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
-        unstable = int(data.warning.number.sum()) > warnings_before or not (
+        # MuJoCo resets the data (time back to 0) when the state diverges, with a warning.
+        diverged = int(data.warning.number.sum()) > warnings_before or data.time <= time_before
+        unstable = diverged or not (
             np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))
         )
         com = self._com()
@@ -509,7 +511,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             self._base_target(),
         ]
         if self.privileged_obs:
-            parts += [self._com(), data.cvel[self._root_body][3:]]
+            mujoco.mj_subtreeVel(self.model, data)
+            parts += [self._com(), data.subtree_linvel[self._root_body]]
         obs = np.concatenate(parts)
         if self._sensor_noise > 0.0:
             n = self.n_joints
@@ -518,7 +521,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         return obs
 
     def _get_reset_info(self) -> dict[str, Any]:
-        return {"com_height": float(self._com()[2]), "phase": self._k0 / self.steps_per_cycle}
+        return {"com_height": float(self._com()[2]), "phase": self._keyframe / self.steps_per_cycle}
 
 
 def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:

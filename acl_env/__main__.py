@@ -15,6 +15,7 @@ import numpy as np
 from tqdm import tqdm
 
 import acl_env  # noqa: F401  (registers the ids)
+from acl_env.model import SIDE_CAMERA, TRACK_CAMERA
 
 ENV_IDS = {"acl": "acl_env/ACLClimb-v0", "rolling_helix": "acl_env/RollingHelixClimb-v0"}
 
@@ -64,9 +65,9 @@ def _write_snapshot(env: gym.Env, path: str) -> None:
 
     renderer = env.unwrapped.mujoco_renderer
     track = env.render()
-    renderer.camera_id = env.unwrapped.model.camera("side").id
+    renderer.camera_id = env.unwrapped.model.camera(SIDE_CAMERA).id
     side = env.render()
-    renderer.camera_id = env.unwrapped.model.camera("track").id
+    renderer.camera_id = env.unwrapped.model.camera(TRACK_CAMERA).id
     imageio.imwrite(path, np.concatenate([track, side], axis=1))
 
 

@@ -14,7 +14,7 @@ from importlib import resources
 import mujoco
 import numpy as np
 
-from acl_env.gait.gaits import SEA_MODULE_DIAMETER, SEA_MODULE_LENGTH
+from acl_env.gait.gaits import SEA_MODULE_LENGTH, SEA_MODULE_RADIUS
 from acl_env.gait.kinematics import joint_axes
 
 MODULE_MASS = 0.205  # kg
@@ -23,11 +23,11 @@ SCENE_FILE = "scene.xml"
 
 POLE_GEOM = "pole"
 FLOOR_GEOM = "floor"
-ROOT_JOINT = "root"
 IMU_SITE = "imu"
 IMU_QUAT_SENSOR = "imu_quat"
 IMU_GYRO_SENSOR = "imu_gyro"
 TRACK_CAMERA = "track"
+SIDE_CAMERA = "side"
 MODULE_CLASS = "sea_module"
 
 
@@ -68,10 +68,13 @@ def build_spec(
         spec = mujoco.MjSpec.from_file(str(scene_path))
     spec.compiler.degree = False  # DESIGN.md pitfall: MjSpec angles default to degrees
     module = spec.find_default(MODULE_CLASS)
+    # The SEA module (DESIGN.md section 2): these constants drive the template's defaults.
+    module.geom.size[0] = SEA_MODULE_RADIUS
+    module.geom.mass = MODULE_MASS
     module.actuator.gainprm[0] = kp
     module.actuator.biasprm[1] = -kp
+    module.actuator.forcerange = [-PEAK_TORQUE, PEAK_TORQUE]
     half = 0.5 * module_length
-    radius = 0.5 * SEA_MODULE_DIAMETER
 
     pole = spec.geom(POLE_GEOM)
     pole.size[0] = pole_radius
@@ -92,7 +95,7 @@ def build_spec(
             )
         shell = spec.geom(shell_name(k))
         # The capsule spans the module between its joints; its caps reach the joint centres.
-        shell.fromto = [radius, 0.0, 0.0, module_length - radius, 0.0, 0.0]
+        shell.fromto = [SEA_MODULE_RADIUS, 0.0, 0.0, module_length - SEA_MODULE_RADIUS, 0.0, 0.0]
         shell.friction[0] = friction
         if k == 0:
             spec.site(IMU_SITE).pos = [half, 0.0, 0.0]

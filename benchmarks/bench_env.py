@@ -27,9 +27,10 @@ def time_raw_physics(steps: int) -> tuple[float, float]:
     env.reset(seed=0)
     model, data, table = env.model, env.data, env.gait.cycle()
     substeps = env.frame_skip // SLIP_SAMPLES
+    first = int(env._keyframe)  # the keyframe the env would play next
     start = time.perf_counter()
     for k in range(steps):
-        data.ctrl[:] = table[k % len(table)]
+        data.ctrl[:] = table[(first + k) % len(table)]
         for _ in range(SLIP_SAMPLES):  # same call pattern as the env, nothing else
             mujoco.mj_step(model, data, nstep=substeps)
     elapsed = time.perf_counter() - start

@@ -62,10 +62,8 @@ def test_chain_matches_numpy_forward_kinematics() -> None:
 def test_wheel_ships_the_assets(tmp_path: Path) -> None:
     """A non-editable install (the wheel) finds the MJCF templates inside the package."""
     wheel_dir, target = tmp_path / "wheel", tmp_path / "site"
-    subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", wheel_dir, ROOT],
-        check=True,
-    )
+    build = ["wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(wheel_dir), str(ROOT)]
+    subprocess.run([sys.executable, "-m", "pip", *build], check=True)
     (wheel,) = wheel_dir.glob("acl_env-*.whl")
     subprocess.run(
         [sys.executable, "-m", "pip", "install", "--no-deps", "-q", "-t", target, wheel],

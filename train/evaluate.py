@@ -39,6 +39,7 @@ from common import (
     latest_model,
     make_env,
     mean_ci95,
+    normalize_kwargs,
     parse_kv_pairs,
     run_config,
     steps_per_cycle,
@@ -295,7 +296,12 @@ def build_controllers(args: argparse.Namespace) -> list[Controller]:
         policy_dir = Path(args.policy)
         if not policy_dir.is_dir():
             raise SystemExit(f"no policy folder {policy_dir}; pass --policy RUN_DIR or --no-policy")
-        env_id, hyperparams = run_config(policy_dir) or (ACL_ID, {})
+        config = run_config(policy_dir)
+        if config is None:
+            raise SystemExit(f"{policy_dir} has no config.yml: it defines the policy's env")
+        env_id, hyperparams = config
+        if normalize_kwargs(hyperparams) and latest_model(policy_dir)[1] is None:
+            raise SystemExit(f"{policy_dir} was trained with VecNormalize but has no statistics")
         base = {
             k: v
             for k, v in (hyperparams.get("env_kwargs") or {}).items()

@@ -14,7 +14,7 @@ from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
 from acl_env.gait import ACLGait, Gait, RollingHelixGait
-from acl_env.gait.gaits import DEFAULT_SQUEEZE, JOINT_LIMIT, SEA_MODULE_DIAMETER
+from acl_env.gait.gaits import DEFAULT_SQUEEZE, JOINT_LIMIT, SEA_MODULE_RADIUS, helix_radius
 from acl_env.gait.kinematics import forward_kinematics, rigid_fit
 from acl_env.model import (
     FLOOR_GEOM,
@@ -43,7 +43,6 @@ DEFAULT_RANDOMIZATION = {
     "mass_scale": (0.9, 1.1),
     "sensor_noise": 0.01,
 }
-MODULE_RADIUS = 0.5 * SEA_MODULE_DIAMETER
 CONTROL_DT = 0.1  # s: one keyframe at 10 Hz, as on the robot
 SLIP_SAMPLES = 5  # contact velocities are sampled this many times per step (every 20 ms)
 START_CLEARANCE = 0.005  # m between shells and pole when the snake is placed
@@ -215,7 +214,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         )
         self.n_joints = check_int("n_joints", n_joints, 3)
         self.pole_radius = check_positive("pole_radius", pole_radius)
-        if self.pole_radius + MODULE_RADIUS - squeeze <= 0.0:
+        if helix_radius(self.pole_radius, squeeze) <= 0.0:
             raise ValueError(f"squeeze={squeeze} leaves no helix radius for this pole")
         self.friction = check_positive("friction", friction)
         self.kp = check_positive("kp", kp)
@@ -284,7 +283,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         return model, mujoco.MjData(model)
 
     def _gait_kwargs(self, pole_radius: float) -> dict[str, Any]:
-        kwargs = {"radius": pole_radius + MODULE_RADIUS - self.squeeze, **self.gait_kwargs}
+        kwargs = {"radius": helix_radius(pole_radius, self.squeeze), **self.gait_kwargs}
         return {**kwargs, "n_joints": self.n_joints, "steps_per_cycle": self.steps_per_cycle}
 
     def _make_gait(self, pole_radius: float, base: str | None = None) -> Gait | None:
@@ -332,7 +331,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Joint angles and root pose of the keyframe drawn on a helix that clears the pole."""
         kwargs = {k: v for k, v in self._gait_kwargs(pole_radius).items() if k != "radius"}
-        contact = pole_radius + MODULE_RADIUS
+        contact = pole_radius + SEA_MODULE_RADIUS
         radius = contact + START_CLEARANCE
         for _ in range(8):
             loose = type(gait)(**kwargs, radius=radius)

@@ -29,13 +29,12 @@ from acl_env.estimation.chassis import (
     to_chassis,
     virtual_chassis,
 )
-from acl_env.gait.gaits import SEA_MODULE_DIAMETER, Gait
+from acl_env.gait.gaits import SEA_MODULE_RADIUS, Gait
 from acl_env.gait.kinematics import count_body_rolls, forward_kinematics
 
 # The contact is on the module's surface, a cylinder of this radius about the centre line that
 # FK follows: a module rolling once about its own axis without slip carries its centre line
 # 2 pi r_joint over the pole, travel that no joint position shows (the last term of Eq. 6).
-SEA_MODULE_RADIUS = 0.5 * SEA_MODULE_DIAMETER  # m, 0.0254
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 The curve parameter ``t`` is the angle around the pole (axis = z); the gait phase enters as
 ``w h = 2 pi phase``. Curvature ``kappa`` and torsion ``tau`` come from the analytic derivatives
-of the curve, arc length ``s`` from cumulative trapezoidal integration on a fine grid of ``t``.
+of the curve, arc length ``s`` from a cumulative third-order (three-point) rule on a grid of ``t``.
 Everything is vectorised over a batch of phases, so a whole gait cycle costs one pass.
 """
 

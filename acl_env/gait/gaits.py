@@ -28,6 +28,7 @@ from acl_env.validation import check_finite, check_int, check_positive
 
 SEA_MODULE_LENGTH = 0.0639  # m, joint to joint
 SEA_MODULE_DIAMETER = 0.0508  # m
+SEA_MODULE_RADIUS = 0.5 * SEA_MODULE_DIAMETER
 JOINT_LIMIT = 0.5 * np.pi  # rad, +-90 deg
 # phi_0 = ROLL_SIGN * 2 pi * rolls_per_cycle * phase: with this sign the body rolls so that the
 # snake moves toward its tail, i.e. up the pole (checked in MuJoCo, tests/test_env.py).
@@ -42,7 +43,15 @@ ROLL_SIGN = 1.0
 # curve (a 2 cm wave pushes the chain's fit past 1.5 cm).
 DEFAULT_POLE_RADIUS = 0.075
 DEFAULT_SQUEEZE = 0.008
-DEFAULT_RADIUS = DEFAULT_POLE_RADIUS + 0.5 * SEA_MODULE_DIAMETER - DEFAULT_SQUEEZE
+
+
+def helix_radius(pole_radius: float, squeeze: float = DEFAULT_SQUEEZE) -> float:
+    """Backbone radius (m) that wraps a pole: its contact radius (pole + module radius) less the
+    squeeze that makes the series springs press on it (DESIGN.md section 3)."""
+    return pole_radius + SEA_MODULE_RADIUS - squeeze
+
+
+DEFAULT_RADIUS = helix_radius(DEFAULT_POLE_RADIUS)
 DEFAULT_PITCH = 0.10
 DEFAULT_AMP_PITCH = 0.01
 

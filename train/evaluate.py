@@ -326,7 +326,11 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--env-kwargs", nargs="*", default=[], metavar="KEY:VALUE")
     parser.add_argument("--json", metavar="PATH", help="write the summaries as JSON")
     parser.add_argument("--plot", metavar="FILE", help="COM height against time (png, pdf, ...)")
-    parser.add_argument("--video", metavar="FILE", help="mp4 of the policy's first episode")
+    parser.add_argument(
+        "--video",
+        metavar="FILE",
+        help="mp4 of the first episode of the policy (of open-loop ACL with --no-policy)",
+    )
     parser.add_argument("--workers", type=int, default=2, help="processes running episodes")
     parser.add_argument("--gym-packages", nargs="*", default=[], help="modules registering envs")
     parser.add_argument("--no-progress-bar", action="store_true")

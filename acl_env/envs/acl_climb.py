@@ -390,6 +390,11 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     # -- step -----------------------------------------------------------------------------------
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """Play one keyframe (0.1 s) of the gait plus the residual.
+
+        reward = w_climb * climb - w_slip * slip: the centre-of-mass rise and the mean sliding
+        distance of the snake-pole contacts over the step (``info`` holds both terms).
+        """
         action = np.asarray(action, dtype=np.float64)
         if action.shape != self.action_space.shape:
             raise ValueError(

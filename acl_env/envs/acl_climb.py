@@ -15,7 +15,7 @@ from gymnasium.utils import EzPickle
 
 from acl_env.gait import ACLGait, Gait, RollingHelixGait
 from acl_env.gait.gaits import DEFAULT_SQUEEZE, JOINT_LIMIT, SEA_MODULE_RADIUS, helix_radius
-from acl_env.gait.kinematics import forward_kinematics, rigid_fit
+from acl_env.gait.kinematics import place_chain
 from acl_env.model import (
     FLOOR_GEOM,
     IMU_GYRO_SENSOR,
@@ -336,9 +336,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         for _ in range(8):
             loose = type(gait)(**kwargs, radius=radius)
             angles = loose.joint_angles(phase)
-            joints, ends, _ = forward_kinematics(angles, loose.module_length)
-            rotation, translation, _ = rigid_fit(joints, loose.backbone(phase))
-            points = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
+            chain = place_chain(angles, loose.backbone(phase), loose.module_length)
+            rotation, translation, points = chain.rotation, chain.translation, chain.points
             gap = _min_axis_distance(points) - contact
             if gap >= START_CLEARANCE - 1e-4:
                 break

@@ -17,7 +17,7 @@ import numpy as np
 
 from acl_env.gait.curves import PitchVaryingHelix, sample_curve
 from acl_env.gait.gaits import DEFAULT_POLE_RADIUS, ACLGait, Gait, RollingHelixGait
-from acl_env.gait.kinematics import backbone_fit_rms, forward_kinematics, rigid_fit
+from acl_env.gait.kinematics import backbone_fit_rms, place_chain
 
 PLOT_PHASES = (0.0, 0.25, 0.5, 0.75)
 
@@ -75,10 +75,8 @@ def dense_backbone(gait: Gait, phase: float, n_samples: int = 600) -> np.ndarray
 
 def fitted_chain(gait: Gait, phase: float) -> tuple[np.ndarray, np.ndarray]:
     """Chain points (head tip, joints, tail tip) and link z (dorsal) axes, fitted to the curve."""
-    joints, ends, frames = forward_kinematics(gait.joint_angles(phase), gait.module_length)
-    rotation, translation, _ = rigid_fit(joints, gait.backbone(phase))
-    points = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
-    return points, (rotation @ frames)[:, :, 2]
+    chain = place_chain(gait.joint_angles(phase), gait.backbone(phase), gait.module_length)
+    return chain.points, chain.frames[:, :, 2]
 
 
 def _draw_pole(ax, z_low: float, z_high: float) -> None:

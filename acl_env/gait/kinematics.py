@@ -15,6 +15,8 @@ Conventions (shared with the MuJoCo model in :mod:`acl_env.model`):
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 DORSAL_AXIS = 1  # index of the link's y axis
@@ -90,6 +92,24 @@ def rigid_fit(source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.nd
     return rotation, translation, rms
 
 
+class PlacedChain(NamedTuple):
+    """The chain of FK placed onto a backbone by the best rigid fit of its joints."""
+
+    points: np.ndarray  # (n_joints + 2, 3): head tip, joints, tail tip, in the backbone's frame
+    frames: np.ndarray  # (n_joints + 1, 3, 3): link rotations in the backbone's frame
+    rotation: np.ndarray  # fit: backbone ~ fk @ rotation.T + translation
+    translation: np.ndarray
+    rms: float  # RMS distance (m) of the joints from the backbone points
+
+
+def place_chain(angles: np.ndarray, backbone: np.ndarray, module_length: float) -> PlacedChain:
+    """Forward kinematics of ``angles`` fitted (Kabsch) onto ``backbone`` (joint positions)."""
+    joints, ends, frames = forward_kinematics(angles, module_length)
+    rotation, translation, rms = rigid_fit(joints, backbone)
+    points = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
+    return PlacedChain(points, rotation @ frames, rotation, translation, rms)
+
+
 def backbone_fit_rms(
     angles: np.ndarray, backbone: np.ndarray, module_length: float
 ) -> tuple[float, np.ndarray, np.ndarray]:
@@ -97,9 +117,8 @@ def backbone_fit_rms(
 
     Returns ``(rms, rotation, translation)`` of the best rigid fit of the FK joints to ``backbone``.
     """
-    joints, _, _ = forward_kinematics(angles, module_length)
-    rotation, translation, rms = rigid_fit(joints, backbone)
-    return rms, rotation, translation
+    chain = place_chain(angles, backbone, module_length)
+    return chain.rms, chain.rotation, chain.translation
 
 
 def surface_roll_angles(
@@ -111,10 +130,8 @@ def surface_roll_angles(
     a link is the angle about its x axis from the outward radial direction (projected normal to
     the link) to the link's z axis. Returned in ``(-pi, pi]``, shape ``(n_joints + 1,)``.
     """
-    joints, ends, frames = forward_kinematics(angles, module_length)
-    rotation, translation, _ = rigid_fit(joints, backbone)
-    world = rotation @ frames  # (n + 1, 3, 3)
-    pts = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
+    chain = place_chain(angles, backbone, module_length)
+    world, pts = chain.frames, chain.points
     mids = 0.5 * (pts[:-1] + pts[1:])
     x_axis, z_axis = world[:, :, 0], world[:, :, 2]
     radial = mids * np.array([1.0, 1.0, 0.0])

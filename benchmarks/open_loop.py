@@ -8,13 +8,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
+from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
-import acl_env  # noqa: F401  (registers the ids)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "train"))
+import evaluate  # train/ is a script folder, not a package
+from common import make_env
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (1 roll/cycle)": ("acl_env/ACLClimb-v0", {}),
@@ -24,18 +27,14 @@ GAITS: dict[str, tuple[str, dict[str, Any]]] = {
 
 
 def rollout(env_id: str, kwargs: dict[str, Any], seed: int) -> dict[str, float]:
-    """Climb and slip per cycle (m) of one zero-action episode."""
-    env = gym.make(env_id, **kwargs).unwrapped
-    env.reset(seed=seed)
-    climb = slip = 0.0
-    steps = 0
-    while steps < env.steps_per_cycle * env.cycles_per_episode:
-        _, _, terminated, _, info = env.step(np.zeros(env.action_space.shape))
-        climb, slip, steps = climb + info["climb"], slip + info["slip"], steps + 1
-        if terminated:
-            break
-    cycles = steps / env.steps_per_cycle
-    return {"climb": climb / cycles, "slip": slip / cycles, "fell": float(info["fell"])}
+    """Climb and slip per cycle (m) and the fall flag of one zero-action episode."""
+    env = make_env(env_id, kwargs)
+    metrics = evaluate.run_episode(env, evaluate.zero_actor(env), seed).metrics()
+    return {
+        "climb": metrics["climb_per_cycle_m"],
+        "slip": metrics["slip_per_cycle_m"],
+        "fell": metrics["falls"],
+    }
 
 
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:

@@ -11,13 +11,18 @@ cadence changes (the PMTG option), for comparison.
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
 from acl_env.envs import ACLClimbEnv
 from acl_env.gait import ACLGait
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "train"))
+import evaluate  # train/ is a script folder, not a package
 
 Residual = Callable[[int, np.ndarray], np.ndarray]  # (keyframe, base target) -> residual, rad
 
@@ -26,23 +31,16 @@ def climb_and_slip(
     env: ACLClimbEnv, residual: Residual, seeds: int, rate_action: float | None = None
 ) -> tuple[float, float]:
     """Mean climb and slip per nominal cycle (m) of open-loop ACL plus ``residual``."""
-    climbs, slips = [], []
-    for seed in range(seeds):
-        env.reset(seed=seed)
-        climb = slip = 0.0
-        steps = env.steps_per_cycle * env.cycles_per_episode
-        for _ in range(steps):
-            keyframe, base = int(env._keyframe), env._base_target()
-            action = np.clip(residual(keyframe, base) / env.residual_scale, -1.0, 1.0)
-            if rate_action is not None:
-                action = np.append(action, rate_action)
-            _, _, terminated, _, info = env.step(action)
-            climb, slip = climb + info["climb"], slip + info["slip"]
-            if terminated:
-                break
-        climbs.append(climb / env.cycles_per_episode)
-        slips.append(slip / env.cycles_per_episode)
-    return float(np.mean(climbs)), float(np.mean(slips))
+
+    def act(obs: np.ndarray) -> np.ndarray:
+        keyframe, base = int(env._keyframe), env._base_target()
+        action = np.clip(residual(keyframe, base) / env.residual_scale, -1.0, 1.0)
+        return action if rate_action is None else np.append(action, rate_action)
+
+    runs = [evaluate.run_episode(env, act, seed).metrics() for seed in range(seeds)]
+    climb = np.mean([m["climb_per_cycle_m"] for m in runs])
+    slip = np.mean([m["slip_per_cycle_m"] for m in runs])
+    return float(climb), float(slip)
 
 
 def toward(env: ACLClimbEnv, **kwargs: float) -> Residual:

@@ -266,8 +266,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             "mass": self.model.body_mass[self._snake_bodies].copy(),
             "inertia": self.model.body_inertia[self._snake_bodies].copy(),
         }
-        self._sensor_noise = 0.0
-        self._kp_now = self.kp
+        self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
         self._table = self._gait_table()
         self._step_count = 0
         self._k0 = 0
@@ -382,8 +381,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         # Recompute what the compiler derived from sizes and masses: the broadphase bounds of the
         # pole (geom_rbound, geom_aabb) and the subtree masses that subtree_com divides by.
         mujoco.mj_setConst(model, self.data)
-        self._sensor_noise = float(dr.get("sensor_noise", 0.0))
-        self._kp_now = kp
+        # Noise std on angles (rad), velocities (10x, rad/s) and torques (kp x, N m).
+        n = self.n_joints
+        self._noise_std = float(dr.get("sensor_noise", 0.0)) * np.repeat([1.0, 10.0, kp], n)
         return pole_radius
 
     # -- step -----------------------------------------------------------------------------------
@@ -517,10 +517,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             mujoco.mj_subtreeVel(self.model, data)
             parts += [self._com(), data.subtree_linvel[self._root_body]]
         obs = np.concatenate(parts)
-        if self._sensor_noise > 0.0:
-            n = self.n_joints
-            scale = np.concatenate([np.full(n, 1.0), np.full(n, 10.0), np.full(n, self._kp_now)])
-            obs[: 3 * n] += self._sensor_noise * scale * self.np_random.standard_normal(3 * n)
+        if "sensor_noise" in self.randomization:
+            noise = self._noise_std * self.np_random.standard_normal(self._noise_std.size)
+            obs[: self._noise_std.size] += noise
         return obs
 
     def _get_reset_info(self) -> dict[str, Any]:

@@ -9,10 +9,14 @@ Importing the package registers the Gymnasium environments:
 from gymnasium.envs.registration import register, registry
 
 __version__ = "0.1.0"
+__all__ = ["ACL_CLIMB_ID", "ROLLING_HELIX_CLIMB_ID"]
+
+ACL_CLIMB_ID = "acl_env/ACLClimb-v0"
+ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v0"
 
 _ENVS = {
-    "acl_env/ACLClimb-v0": {"base_gait": "acl"},
-    "acl_env/RollingHelixClimb-v0": {"base_gait": "rolling_helix"},
+    ACL_CLIMB_ID: {"base_gait": "acl"},
+    ROLLING_HELIX_CLIMB_ID: {"base_gait": "rolling_helix"},
 }
 
 for _env_id, _kwargs in _ENVS.items():

@@ -17,12 +17,13 @@ import pytest
 import yaml
 
 import acl_env  # noqa: F401
+from acl_env import evaluation
+from acl_env.training import config
 
 ROOT = Path(__file__).resolve().parents[1]
 TRAIN = ROOT / "train"
 sys.path.insert(0, str(TRAIN))
 
-import common  # noqa: E402
 import evaluate  # noqa: E402
 
 ACL_ID = "acl_env/ACLClimb-v0"
@@ -101,31 +102,31 @@ def zero_action_metrics(env_id: str, env_kwargs: dict[str, Any], seeds: list[int
 def test_config_entries_build_ppo_arguments() -> None:
     """Both env entries parse; the residual starts small; gamma is long-horizon."""
     for env_id in (ACL_ID, HELIX_ID):
-        hyperparams = common.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
-        kwargs = common.algo_kwargs(hyperparams)
+        hyperparams = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
+        kwargs = config.algo_kwargs(hyperparams)
         # Initial joint noise = action std x residual_scale: at most 0.03 rad, which the open-loop
         # gait shrugs off (ppo.yml's comment has the measurements).
         std = math.exp(kwargs["policy_kwargs"]["log_std_init"])
         assert std * hyperparams["env_kwargs"]["residual_scale"] <= 0.03
         assert 0.99 <= kwargs["gamma"] < 1.0
-        assert common.normalize_kwargs(hyperparams) == {
+        assert config.normalize_kwargs(hyperparams) == {
             "norm_obs": True,
             "norm_reward": True,
             "gamma": kwargs["gamma"],
         }
         assert hyperparams["env_kwargs"]["domain_randomization"]
-        assert not set(kwargs) & set(common.NON_ALGO_KEYS)
+        assert not set(kwargs) & set(config.NON_ALGO_KEYS)
 
 
 def test_config_strings_are_parsed_without_eval() -> None:
     """Zoo strings become objects; code is rejected instead of run."""
     import torch
 
-    parsed = common.parse_python_literal("dict(activation_fn=nn.ReLU, net_arch=[64], x=-1e-3)")
+    parsed = config.parse_python_literal("dict(activation_fn=nn.ReLU, net_arch=[64], x=-1e-3)")
     assert parsed == {"activation_fn": torch.nn.ReLU, "net_arch": [64], "x": -1e-3}
     with pytest.raises(ValueError):
-        common.parse_python_literal("__import__('os').system('true')")
-    assert common.parse_kv_pairs(["a:0.5", "b:acl", "c:{'k': [1, 2]}"]) == {
+        config.parse_python_literal("__import__('os').system('true')")
+    assert config.parse_kv_pairs(["a:0.5", "b:acl", "c:{'k': [1, 2]}"]) == {
         "a": 0.5,
         "b": "acl",
         "c": {"k": [1, 2]},
@@ -135,8 +136,8 @@ def test_config_strings_are_parsed_without_eval() -> None:
 def test_confidence_interval_uses_student_t() -> None:
     """t quantiles match tables; the CI of [1, 2, 3] is 2 +- 4.303 * 1 / sqrt(3)."""
     for dof, table in [(1, 12.7062), (4, 2.7764), (19, 2.0930)]:
-        assert common.student_t_quantile(0.975, dof) == pytest.approx(table, abs=1e-4)
-    ci = common.mean_ci95([1.0, 2.0, 3.0, math.nan])
+        assert evaluation.student_t_quantile(0.975, dof) == pytest.approx(table, abs=1e-4)
+    ci = evaluation.mean_ci95([1.0, 2.0, 3.0, math.nan])
     assert ci["n"] == 3
     assert ci["half_width"] == pytest.approx(4.3027 / math.sqrt(3), abs=1e-4)
 

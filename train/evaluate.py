@@ -34,20 +34,21 @@ from typing import Any
 os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering for --video; before mujoco loads
 
 import numpy as np
-from common import (
-    import_gym_packages,
-    latest_model,
-    make_env,
-    mean_ci95,
-    normalize_kwargs,
-    parse_kv_pairs,
-    run_config,
-    steps_per_cycle,
-)
 from tqdm import tqdm
 
-ACL_ID = "acl_env/ACLClimb-v0"
-ROLLING_HELIX_ID = "acl_env/RollingHelixClimb-v0"
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.evaluation import mean_ci95
+from acl_env.training.config import (
+    import_gym_packages,
+    make_env,
+    normalize_kwargs,
+    parse_kv_pairs,
+    steps_per_cycle,
+)
+from acl_env.training.runs import latest_model, run_config
+
+ACL_ID = ACL_CLIMB_ID
+ROLLING_HELIX_ID = ROLLING_HELIX_CLIMB_ID
 DEFAULT_POLICY = Path(__file__).with_name("policies") / "acl_climb_ppo"
 METRICS = ("climb_per_cycle_m", "climb_speed_cm_s", "slip_per_cycle_m", "falls", "energy_per_m")
 # Training-only env kwargs that evaluation drops from the policy's config: evaluation runs at

@@ -27,7 +27,23 @@ from typing import Any
 
 import numpy as np
 import torch
-from common import (
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback, CallbackList, CheckpointCallback
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.utils import set_random_seed
+from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.training.config import (
+    algo_kwargs,
+    import_gym_packages,
+    load_hyperparams,
+    make_worker_env,
+    normalize_kwargs,
+    parse_kv_pairs,
+    save_hyperparams,
+)
+from acl_env.training.runs import (
     ARGS_FILE,
     CHECKPOINT_DIR,
     CHECKPOINT_PREFIX,
@@ -35,21 +51,9 @@ from common import (
     MODEL_FILE,
     SUMMARY_FILE,
     VECNORMALIZE_FILE,
-    algo_kwargs,
-    import_gym_packages,
     latest_model,
-    load_hyperparams,
-    make_worker_env,
-    normalize_kwargs,
-    parse_kv_pairs,
     run_config,
-    save_hyperparams,
 )
-from stable_baselines3 import PPO
-from stable_baselines3.common.callbacks import BaseCallback, CallbackList, CheckpointCallback
-from stable_baselines3.common.env_util import make_vec_env
-from stable_baselines3.common.utils import set_random_seed
-from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
 
 DEFAULT_CONFIG = Path(__file__).with_name("configs") / "ppo.yml"
 
@@ -104,7 +108,7 @@ class InfoTermsCallback(BaseCallback):
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     """Command line; ``--hyperparams`` and ``--env-kwargs`` take zoo-style ``key:value``."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--env", default="acl_env/ACLClimb-v0", help="registered env id")
+    parser.add_argument("--env", default=ACL_CLIMB_ID, help="registered env id")
     parser.add_argument("--config", default=str(DEFAULT_CONFIG), help="zoo-format YAML")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--n-timesteps", type=int, help="env steps (override; on resume: more)")

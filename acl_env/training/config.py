@@ -1,4 +1,4 @@
-"""Helpers shared by ``train_ppo.py`` and ``evaluate.py``: configs, env making, run folders.
+"""Training configuration: zoo-format YAML configs, their Python-looking strings, env factories.
 
 The configs follow the rl-baselines3-zoo format (one YAML entry per env id, ``policy_kwargs`` and
 ``normalize`` possibly as Python-looking strings), so the zoo itself can train from the same file.
@@ -9,27 +9,16 @@ accepts literals, ``dict(...)`` calls and ``torch.nn`` / ``torch.optim`` class n
 from __future__ import annotations
 
 import ast
-import functools
 import importlib
-import math
 import signal
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
 import gymnasium
-import numpy as np
 import yaml
 
 import acl_env  # noqa: F401  (registers the acl_env/* ids)
-
-MODEL_FILE = "model.zip"
-VECNORMALIZE_FILE = "vecnormalize.pkl"
-CONFIG_FILE = "config.yml"
-ARGS_FILE = "args.json"
-SUMMARY_FILE = "summary.json"
-CHECKPOINT_DIR = "checkpoints"
-CHECKPOINT_PREFIX = "model"
 
 # Config keys consumed here rather than passed to the SB3 algorithm.
 NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs")
@@ -182,72 +171,3 @@ def steps_per_cycle(env: gymnasium.Env) -> int:
     if value is None:
         raise AttributeError(f"{env.spec.id if env.spec else env} does not expose steps_per_cycle")
     return int(value)
-
-
-# --- run folders ---------------------------------------------------------------------------------
-
-
-def latest_model(run_dir: str | Path) -> tuple[Path, Path | None]:
-    """The newest ``(model.zip, vecnormalize.pkl)`` pair in a run folder or a policy folder.
-
-    Candidates are the final/interrupted ``model.zip`` and the checkpoints; the most recently
-    written wins. The VecNormalize path is None when the run did not normalise.
-    """
-    run_dir = Path(run_dir)
-    pairs = [(run_dir / MODEL_FILE, run_dir / VECNORMALIZE_FILE)]
-    for model in (run_dir / CHECKPOINT_DIR).glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
-        steps = model.stem.removeprefix(f"{CHECKPOINT_PREFIX}_")
-        pairs.append((model, model.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}.pkl")))
-    pairs = [pair for pair in pairs if pair[0].is_file()]
-    if not pairs:
-        raise FileNotFoundError(f"no {MODEL_FILE} or checkpoint in {run_dir}")
-    model, vecnorm = max(pairs, key=lambda pair: pair[0].stat().st_mtime_ns)
-    return model, vecnorm if vecnorm.is_file() else None
-
-
-def run_config(run_dir: str | Path) -> tuple[str, dict[str, Any]] | None:
-    """``(env_id, hyperparams)`` from a run folder's ``config.yml``, or None if it has none."""
-    path = Path(run_dir) / CONFIG_FILE
-    if not path.is_file():
-        return None
-    with open(path) as f:
-        configs = yaml.safe_load(f)
-    ((env_id, hyperparams),) = configs.items()
-    return env_id, dict(hyperparams)
-
-
-# --- statistics ----------------------------------------------------------------------------------
-
-
-@functools.lru_cache(maxsize=256)
-def student_t_quantile(p: float, dof: int) -> float:
-    """Quantile of Student's t distribution without SciPy: bisection on the integrated pdf."""
-    if not 0.5 <= p < 1.0 or dof < 1:
-        raise ValueError("need 0.5 <= p < 1 and dof >= 1")
-    log_norm = math.lgamma((dof + 1) / 2) - math.lgamma(dof / 2) - 0.5 * math.log(dof * math.pi)
-
-    def cdf(x: float) -> float:
-        t = np.linspace(0.0, x, 4001)
-        pdf = np.exp(log_norm - 0.5 * (dof + 1) * np.log1p(t * t / dof))
-        return 0.5 + float(np.trapezoid(pdf, t))
-
-    lo, hi = 0.0, 1.0
-    while cdf(hi) < p:
-        lo, hi = hi, 2.0 * hi
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if cdf(mid) < p else (lo, mid)
-    return 0.5 * (lo + hi)
-
-
-def mean_ci95(values: Iterable[float]) -> dict[str, Any]:
-    """Mean and two-sided 95 % confidence interval from the t distribution (NaNs dropped)."""
-    x = np.asarray([v for v in values if not math.isnan(v)], dtype=float)
-    n = len(x)
-    if n == 0:
-        return {"mean": math.nan, "ci95": [math.nan, math.nan], "half_width": math.nan, "n": 0}
-    mean = float(x.mean())
-    half = 0.0
-    if n > 1:
-        half = student_t_quantile(0.975, n - 1) * float(x.std(ddof=1)) / math.sqrt(n)
-    return {"mean": mean, "ci95": [mean - half, mean + half], "half_width": half, "n": n}

@@ -1,28 +1,154 @@
-"""Argument checks shared by the gaits and the environment: errors that name the parameter."""
+"""Argument checks shared by the gaits and the environment: errors that name the parameter.
+
+Every check raises ``TypeError`` for a value of the wrong kind (a string where a number is
+expected, ``1`` where a bool is, a scalar where a pair is) and ``ValueError`` for a value of the
+right kind outside its range; both messages name the argument and say what is accepted. Numbers
+are ``int``, ``float`` or NumPy scalars, never ``bool`` (``True`` is not a pole radius) and never
+strings (``"0.5"`` is refused rather than parsed: parsing belongs to the command line).
+"""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Collection, Mapping, Sequence
+from numbers import Integral, Real
+from typing import Any, TypeVar
+
+import numpy as np
+
+T = TypeVar("T")
 
 
-def check_finite(name: str, value: float) -> float:
-    """``value`` as a float; NaN and inf raise ``ValueError`` naming ``name``."""
+def _kind(value: object) -> str:
+    return f"{value!r} ({type(value).__name__})"
+
+
+def _is_bool(value: object) -> bool:
+    return isinstance(value, bool | np.bool_)
+
+
+def check_bool(name: str, value: object) -> bool:
+    """``value`` as a ``bool``: only ``True``/``False`` (or NumPy's), not ``1``, not ``"false"``."""
+    if not _is_bool(value):
+        raise TypeError(f"{name} must be True or False, got {_kind(value)}")
+    return bool(value)
+
+
+def check_finite(name: str, value: object) -> float:
+    """``value`` as a float: a real number (not a bool, not a string), NaN and inf refused."""
+    if _is_bool(value) or not isinstance(value, Real):
+        raise TypeError(f"{name} must be a real number, got {_kind(value)}")
     value = float(value)
     if not math.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value}")
     return value
 
 
-def check_positive(name: str, value: float) -> float:
-    """A finite ``value > 0``."""
+def check_positive(name: str, value: object, maximum: float | None = None) -> float:
+    """A finite ``0 < value`` (``<= maximum`` when given)."""
     value = check_finite(name, value)
-    if value <= 0.0:
-        raise ValueError(f"{name} must be positive, got {value}")
+    if value <= 0.0 or (maximum is not None and value > maximum):
+        accepted = "positive" if maximum is None else f"in (0, {maximum}]"
+        raise ValueError(f"{name} must be {accepted}, got {value}")
     return value
 
 
-def check_int(name: str, value: float, minimum: int) -> int:
-    """An integer-valued ``value >= minimum``; NaN and inf fail with a message naming ``name``."""
-    if not (math.isfinite(float(value)) and int(value) == value and value >= minimum):
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value}")
-    return int(value)
+def check_range(
+    name: str,
+    value: object,
+    low: float,
+    high: float,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """A finite ``value`` in ``[low, high]``; ``low_open``/``high_open`` exclude the ends."""
+    value = check_finite(name, value)
+    too_low = value <= low if low_open else value < low
+    too_high = value >= high if high_open else value > high
+    if too_low or too_high:
+        interval = f"{'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
+        raise ValueError(f"{name} must be in {interval}, got {value}")
+    return value
+
+
+def check_int(name: str, value: object, minimum: int, maximum: int | None = None) -> int:
+    """An ``int`` (or NumPy integer) in ``[minimum, maximum]``.
+
+    A non-number (a string, ``None``, a bool) is a ``TypeError``; a float, even ``20.0``, NaN or
+    inf, is a number of the wrong value: a ``ValueError``.
+    """
+    accepted = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
+    if _is_bool(value) or not isinstance(value, Real):
+        raise TypeError(f"{name} must be an integer {accepted}, got {_kind(value)}")
+    if not isinstance(value, Integral):
+        raise ValueError(f"{name} must be an integer {accepted}, got {_kind(value)}")
+    value = int(value)
+    if value < minimum or (maximum is not None and value > maximum):
+        raise ValueError(f"{name} must be an integer {accepted}, got {value}")
+    return value
+
+
+def check_choice(name: str, value: object, choices: Collection[T]) -> T:
+    """One of ``choices``: a value of none of their types is a ``TypeError``, another a
+    ``ValueError``."""
+    accepted = ", ".join(map(repr, choices))
+    if not any(type(value) is type(choice) for choice in choices):
+        raise TypeError(f"{name} must be one of {accepted}; got {_kind(value)}")
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {accepted}; got {value!r}")
+    return value  # type: ignore[return-value]
+
+
+def check_sequence(
+    name: str,
+    value: object,
+    length: int,
+    item: Callable[[str, object], T],
+) -> tuple[T, ...]:
+    """A sequence (list, tuple, 1-D array; not a string) of exactly ``length`` items, each passed
+    through ``item(f"{name}[i]", x)``."""
+    if isinstance(value, np.ndarray):
+        if value.ndim != 1:
+            raise TypeError(f"{name} must be a sequence of {length} items, got an array {value!r}")
+        value = list(value)
+    if isinstance(value, str | bytes) or not isinstance(value, Sequence):
+        raise TypeError(f"{name} must be a sequence of {length} items, got {_kind(value)}")
+    if len(value) != length:
+        raise ValueError(f"{name} must have {length} items, got {len(value)}: {value!r}")
+    return tuple(item(f"{name}[{i}]", x) for i, x in enumerate(value))
+
+
+def check_mapping(name: str, value: object, known: Collection[str]) -> dict[str, Any]:
+    """A mapping with string keys drawn from ``known``, as a plain ``dict``."""
+    if not isinstance(value, Mapping):
+        raise TypeError(
+            f"{name} must be a mapping (dict) with keys from {sorted(known)}, got {_kind(value)}"
+        )
+    bad = [key for key in value if not isinstance(key, str)]
+    if bad:
+        raise TypeError(f"{name} keys must be strings from {sorted(known)}, got {bad!r}")
+    unknown = sorted(set(value) - set(known))
+    if unknown:
+        raise ValueError(f"{name} has unknown keys {unknown}; known: {sorted(known)}")
+    return dict(value)
+
+
+def check_string(name: str, value: object) -> str:
+    """A ``str``."""
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {_kind(value)}")
+    return value
+
+
+__all__ = [
+    "check_bool",
+    "check_choice",
+    "check_finite",
+    "check_int",
+    "check_mapping",
+    "check_positive",
+    "check_range",
+    "check_sequence",
+    "check_string",
+]

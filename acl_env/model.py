@@ -3,8 +3,8 @@
 The scene template (``scene.xml``) includes the robot template (``sea_snake.xml``), which holds the
 default classes and the head link; the chain is grown here, one module per link, so any
 ``n_joints`` works. Link frames follow :mod:`acl_env.gait.kinematics`: x along the body from head
-to tail, even joints dorsal about y, odd joints lateral about z. Every element is named through the
-helpers below, never through scattered string literals.
+to tail, even joints dorsal about y, odd joints lateral about z. Every element is named through
+:mod:`acl_env.constants`, never through scattered string literals.
 """
 
 from __future__ import annotations
@@ -14,41 +14,50 @@ from importlib import resources
 import mujoco
 import numpy as np
 
-from acl_env.gait.gaits import SEA_MODULE_LENGTH, SEA_MODULE_RADIUS
+from acl_env.constants import (
+    DEFAULT_FRICTION,
+    DEFAULT_KP,
+    DEFAULT_N_JOINTS,
+    DEFAULT_POLE_RADIUS,
+    FLOOR_GEOM,
+    IMU_GYRO_SENSOR,
+    IMU_QUAT_SENSOR,
+    IMU_SITE,
+    MODULE_CLASS,
+    MODULE_MASS,
+    PEAK_TORQUE,
+    PHYSICS_TIMESTEP,
+    POLE_GEOM,
+    SCENE_FILE,
+    SEA_MODULE_LENGTH,
+    SEA_MODULE_RADIUS,
+    SIDE_CAMERA,
+    TRACK_CAMERA,
+    actuator_name,
+    joint_name,
+    link_name,
+    shell_name,
+)
 from acl_env.gait.kinematics import joint_axes
 
-MODULE_MASS = 0.205  # kg
-PEAK_TORQUE = 7.0  # N m
-SCENE_FILE = "scene.xml"
-
-POLE_GEOM = "pole"
-FLOOR_GEOM = "floor"
-IMU_SITE = "imu"
-IMU_QUAT_SENSOR = "imu_quat"
-IMU_GYRO_SENSOR = "imu_gyro"
-TRACK_CAMERA = "track"
-SIDE_CAMERA = "side"
-MODULE_CLASS = "sea_module"
-
-
-def link_name(k: int) -> str:
-    """Body of module ``k`` (0 = head)."""
-    return f"link_{k}"
-
-
-def shell_name(k: int) -> str:
-    """Capsule geom of module ``k``."""
-    return f"shell_{k}"
-
-
-def joint_name(j: int) -> str:
-    """Hinge ``j`` (0 = head joint), between link ``j`` and link ``j + 1``."""
-    return f"joint_{j}_{'dorsal' if j % 2 == 0 else 'lateral'}"
-
-
-def actuator_name(j: int) -> str:
-    """Position servo (the series spring) of joint ``j``."""
-    return f"servo_{j}"
+# The element names live in acl_env.constants; they are re-exported here for the model's users.
+__all__ = [
+    "FLOOR_GEOM",
+    "IMU_GYRO_SENSOR",
+    "IMU_QUAT_SENSOR",
+    "POLE_GEOM",
+    "SCENE_FILE",
+    "SIDE_CAMERA",
+    "TRACK_CAMERA",
+    "actuator_name",
+    "assets_dir",
+    "build_model",
+    "build_spec",
+    "joint_name",
+    "link_name",
+    "shell_name",
+    "snake_geom_ids",
+]
 
 
 def assets_dir() -> resources.abc.Traversable:
@@ -57,18 +66,19 @@ def assets_dir() -> resources.abc.Traversable:
 
 
 def build_spec(
-    n_joints: int = 20,
-    pole_radius: float = 0.075,
-    friction: float = 1.0,
-    kp: float = 20.0,
+    n_joints: int = DEFAULT_N_JOINTS,
+    pole_radius: float = DEFAULT_POLE_RADIUS,
+    friction: float = DEFAULT_FRICTION,
+    kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
 ) -> mujoco.MjSpec:
     """The scene with an ``n_joints`` SEA snake, as an editable spec."""
     with resources.as_file(assets_dir() / SCENE_FILE) as scene_path:
         spec = mujoco.MjSpec.from_file(str(scene_path))
-    spec.compiler.degree = False  # DESIGN.md pitfall: MjSpec angles default to degrees
+    spec.compiler.degree = False  # MjSpec angles default to degrees
+    spec.option.timestep = PHYSICS_TIMESTEP
     module = spec.find_default(MODULE_CLASS)
-    # The SEA module (DESIGN.md section 2): these constants drive the template's defaults.
+    # The SEA module (acl_env.constants): these constants drive the template's defaults.
     module.geom.size[0] = SEA_MODULE_RADIUS
     module.geom.mass = MODULE_MASS
     module.actuator.gainprm[0] = kp
@@ -107,10 +117,10 @@ def build_spec(
 
 
 def build_model(
-    n_joints: int = 20,
-    pole_radius: float = 0.075,
-    friction: float = 1.0,
-    kp: float = 20.0,
+    n_joints: int = DEFAULT_N_JOINTS,
+    pole_radius: float = DEFAULT_POLE_RADIUS,
+    friction: float = DEFAULT_FRICTION,
+    kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
 ) -> mujoco.MjModel:
     """Compile the scene with an ``n_joints`` SEA snake (see :func:`build_spec`)."""

@@ -13,21 +13,40 @@ from gymnasium import spaces
 from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
-from acl_env.gait import ACLGait, Gait, RollingHelixGait
-from acl_env.gait.gaits import DEFAULT_SQUEEZE, JOINT_LIMIT, SEA_MODULE_RADIUS, helix_radius
-from acl_env.gait.kinematics import place_chain
-from acl_env.model import (
+from acl_env.constants import (
+    CONTROL_DT,
+    DEFAULT_FRICTION,
+    DEFAULT_KP,
+    DEFAULT_N_JOINTS,
+    DEFAULT_POLE_RADIUS,
     FLOOR_GEOM,
     IMU_GYRO_SENSOR,
     IMU_QUAT_SENSOR,
-    POLE_GEOM,
+    JOINT_LIMIT,
+    PHYSICS_TIMESTEP,
     SCENE_FILE,
+    SEA_MODULE_RADIUS,
     TRACK_CAMERA,
-    assets_dir,
-    build_model,
-    link_name,
-    snake_geom_ids,
 )
+from acl_env.envs import termination
+from acl_env.envs.randomize import (
+    DEFAULT_RANDOMIZATION,
+    RandomizedElements,
+    apply_physics,
+    check_randomization,
+    draw_physics,
+    sensor_noise_std,
+)
+from acl_env.envs.rewards import (
+    DEFAULT_REWARD_WEIGHTS,
+    StepMeasures,
+    check_reward_weights,
+    reward_terms,
+)
+from acl_env.gait import ACLGait, Gait, RollingHelixGait
+from acl_env.gait.gaits import DEFAULT_SQUEEZE, helix_radius
+from acl_env.gait.kinematics import clear_placement
+from acl_env.model import assets_dir, build_model
 from acl_env.validation import check_finite, check_int, check_positive
 
 GAITS: dict[str, type[Gait] | None] = {
@@ -35,15 +54,6 @@ GAITS: dict[str, type[Gait] | None] = {
     "rolling_helix": RollingHelixGait,
     "none": None,
 }
-DEFAULT_REWARD_WEIGHTS = {"climb": 1.0, "slip": 1.0}
-DEFAULT_RANDOMIZATION = {
-    "pole_radius": (0.065, 0.09),
-    "friction": (0.7, 1.2),
-    "kp": (15.0, 30.0),
-    "mass_scale": (0.9, 1.1),
-    "sensor_noise": 0.01,
-}
-CONTROL_DT = 0.1  # s: one keyframe at 10 Hz, as on the robot
 SLIP_SAMPLES = 5  # contact velocities are sampled this many times per step (every 20 ms)
 START_CLEARANCE = 0.005  # m between shells and pole when the snake is placed
 START_HEIGHT = 0.3  # m from the floor to the lowest point of the snake at reset
@@ -158,10 +168,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         base_gait: str = "acl",
         gait_kwargs: Mapping[str, Any] | None = None,
         residual_scale: float | None = None,
-        n_joints: int = 20,
-        pole_radius: float = 0.075,
-        friction: float = 1.0,
-        kp: float = 20.0,
+        n_joints: int = DEFAULT_N_JOINTS,
+        pole_radius: float = DEFAULT_POLE_RADIUS,
+        friction: float = DEFAULT_FRICTION,
+        kp: float = DEFAULT_KP,
         squeeze: float = DEFAULT_SQUEEZE,
         steps_per_cycle: int = 220,
         cycles_per_episode: int = 2,
@@ -221,8 +231,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self.squeeze = check_finite("squeeze", squeeze)
         self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2)
         self.cycles_per_episode = check_int("cycles_per_episode", cycles_per_episode, 1)
-        self.reward_weights = _reward_weights(reward_weights)
-        self.randomization = _randomization(domain_randomization)
+        self.reward_weights = check_reward_weights(reward_weights)
+        self.randomization = check_randomization(domain_randomization)
         self.privileged_obs = bool(privileged_obs)
         self.start_phase_range = check_finite("start_phase_range", start_phase_range)
         if not 0.0 <= self.start_phase_range <= 1.0:
@@ -235,7 +245,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         n = self.n_joints
         obs_size = 4 * n + 9 + (6 if self.privileged_obs else 0)
         observation_space = spaces.Box(-np.inf, np.inf, shape=(obs_size,), dtype=np.float64)
-        frame_skip = round(CONTROL_DT / 0.002)
+        frame_skip = round(CONTROL_DT / PHYSICS_TIMESTEP)
         MujocoEnv.__init__(
             self,
             str(assets_dir() / SCENE_FILE),
@@ -248,24 +258,23 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         )
         n_actions = n + (self.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
-        self._pole_geom = self.model.geom(POLE_GEOM).id
-        self._floor_geom = self.model.geom(FLOOR_GEOM).id
-        self._snake_geoms = snake_geom_ids(self.model, n)
+        self._elements = RandomizedElements.of(self.model, n)
+        self._nominal_physics = {
+            "pole_radius": self.pole_radius,
+            "friction": self.friction,
+            "kp": self.kp,
+            "mass_scale": 1.0,
+        }
         # Contact pair (g1, g2) -> 1 snake-pole, 2 snake-floor, 0 other, via key g1 * ngeom + g2.
-        ngeom = self.model.ngeom
+        ngeom, snake = self.model.ngeom, self._elements.snake_geoms
         self._pair_key = np.array([ngeom, 1])
         self._pair_kind = np.zeros(ngeom * ngeom, dtype=np.int8)
-        for other, code in ((self._pole_geom, 1), (self._floor_geom, 2)):
-            self._pair_kind[self._snake_geoms * ngeom + other] = code
-            self._pair_kind[other * ngeom + self._snake_geoms] = code
-        self._snake_bodies = np.array([self.model.body(link_name(k)).id for k in range(n + 1)])
-        self._root_body = self._snake_bodies[0]
+        for other, code in ((self._elements.pole_geom, 1), (self.model.geom(FLOOR_GEOM).id, 2)):
+            self._pair_kind[snake * ngeom + other] = code
+            self._pair_kind[other * ngeom + snake] = code
+        self._root_body = self._elements.snake_bodies[0]
         self._imu_quat = _sensor_slice(self.model, IMU_QUAT_SENSOR)
         self._imu_gyro = _sensor_slice(self.model, IMU_GYRO_SENSOR)
-        self._nominal = {
-            "mass": self.model.body_mass[self._snake_bodies].copy(),
-            "inertia": self.model.body_inertia[self._snake_bodies].copy(),
-        }
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
         self._table = self._gait_table()
         self._step_count = 0
@@ -300,7 +309,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
     def reset_model(self) -> np.ndarray:
         rng = self.np_random
-        pole_radius = self._apply_randomization(rng)
+        physics = draw_physics(self.randomization, self._nominal_physics, rng)
+        apply_physics(self.model, self.data, self._elements, physics)
+        self._noise_std = sensor_noise_std(self.randomization, physics["kp"], self.n_joints)
+        pole_radius = physics["pole_radius"]
         self.gait = self._make_gait(pole_radius)
         self._table = self._gait_table()
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
@@ -309,7 +321,14 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         # "none" starts from the ACL gait's pose: the ablation must still begin on the pole.
         start_gait = self.gait or self._make_gait(pole_radius, "acl")
         phase0 = self._k0 / self.steps_per_cycle
-        angles, rotation, translation = self._placement(start_gait, phase0, pole_radius)
+        kwargs = {k: v for k, v in self._gait_kwargs(pole_radius).items() if k != "radius"}
+        angles, rotation, translation = clear_placement(
+            lambda radius: type(start_gait)(**kwargs, radius=radius),
+            phase0,
+            contact_radius=pole_radius + SEA_MODULE_RADIUS,
+            clearance=START_CLEARANCE,
+            height=START_HEIGHT,
+        )
         yaw = rng.uniform(-np.pi, np.pi)
         c, s = math.cos(yaw), math.sin(yaw)
         yaw_rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -324,25 +343,6 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
         self._com_start = self._com()[2]
         return self._get_obs()
-
-    def _placement(
-        self, gait: Gait, phase: float, pole_radius: float
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Joint angles and root pose of the keyframe drawn on a helix that clears the pole."""
-        kwargs = {k: v for k, v in self._gait_kwargs(pole_radius).items() if k != "radius"}
-        contact = pole_radius + SEA_MODULE_RADIUS
-        radius = contact + START_CLEARANCE
-        for _ in range(8):
-            loose = type(gait)(**kwargs, radius=radius)
-            angles = loose.joint_angles(phase)
-            chain = place_chain(angles, loose.backbone(phase), loose.module_length)
-            rotation, translation, points = chain.rotation, chain.translation, chain.points
-            gap = _min_axis_distance(points) - contact
-            if gap >= START_CLEARANCE - 1e-4:
-                break
-            radius += START_CLEARANCE - gap + 1e-3
-        translation = translation + np.array([0.0, 0.0, START_HEIGHT - points[:, 2].min()])
-        return angles, rotation, translation
 
     def _ramp_in(self, start: np.ndarray, target: np.ndarray) -> None:
         """Ramp the servo targets from the placed pose to the first keyframe, then hold it.
@@ -361,30 +361,6 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self.model.opt.gravity[:] = gravity
         mujoco.mj_step(self.model, self.data, nstep=max(1, round(SETTLE_TIME / dt)))
         mujoco.mj_forward(self.model, self.data)
-
-    def _apply_randomization(self, rng: np.random.Generator) -> float:
-        """Draw this episode's physics from ``domain_randomization``; returns the pole radius."""
-        dr = self.randomization
-        model = self.model
-        pole_radius = float(rng.uniform(*dr["pole_radius"])) if "pole_radius" in dr else None
-        pole_radius = pole_radius or self.pole_radius
-        model.geom_size[self._pole_geom, 0] = pole_radius
-        friction = float(rng.uniform(*dr["friction"])) if "friction" in dr else self.friction
-        model.geom_friction[self._snake_geoms, 0] = friction
-        model.geom_friction[self._pole_geom, 0] = friction
-        kp = float(rng.uniform(*dr["kp"])) if "kp" in dr else self.kp
-        model.actuator_gainprm[:, 0] = kp
-        model.actuator_biasprm[:, 1] = -kp
-        scale = float(rng.uniform(*dr["mass_scale"])) if "mass_scale" in dr else 1.0
-        model.body_mass[self._snake_bodies] = self._nominal["mass"] * scale
-        model.body_inertia[self._snake_bodies] = self._nominal["inertia"] * scale
-        # Recompute what the compiler derived from sizes and masses: the broadphase bounds of the
-        # pole (geom_rbound, geom_aabb) and the subtree masses that subtree_com divides by.
-        mujoco.mj_setConst(model, self.data)
-        # Noise std on angles (rad), velocities (10x, rad/s) and torques (kp x, N m).
-        n = self.n_joints
-        self._noise_std = float(dr.get("sensor_noise", 0.0)) * np.repeat([1.0, 10.0, kp], n)
-        return pole_radius
 
     # -- step -----------------------------------------------------------------------------------
 
@@ -410,7 +386,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
         model, data = self.model, self.data
         com_before = self._com()[2]
-        warnings_before, time_before = int(data.warning.number.sum()), data.time
+        warnings_before, time_before = termination.warning_count(data), data.time
         data.ctrl[:] = target
         substeps = self.frame_skip // SLIP_SAMPLES
         sample_dt = substeps * model.opt.timestep
@@ -426,20 +402,14 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
-        # MuJoCo resets the data (time back to 0) when the state diverges, with a warning.
-        diverged = int(data.warning.number.sum()) > warnings_before or data.time <= time_before
-        unstable = diverged or not (
-            np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))
-        )
+        unstable = termination.unstable(data, warnings_before, time_before)
         com = self._com()
         climb = 0.0 if unstable else float(com[2] - com_before)
         slip = 0.0 if unstable else slip
-        dropped = com[2] < self._com_start - self.fall_distance
-        fell = not unstable and (dropped or grounded or not touched)
-        terms = {
-            "reward_climb": self.reward_weights["climb"] * climb,
-            "reward_slip": -self.reward_weights["slip"] * slip,
-        }
+        fell = not unstable and termination.fell(
+            com[2], self._com_start, self.fall_distance, touched, grounded
+        )
+        terms = reward_terms(self.reward_weights, StepMeasures(climb, slip))
         reward = sum(terms.values())
         terminated = fell or unstable
         truncated = self._step_count >= self.steps_per_cycle * self.cycles_per_episode
@@ -532,13 +502,6 @@ def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:
     return slice(start, start + int(sensor.dim[0]))
 
 
-def _min_axis_distance(points: np.ndarray) -> float:
-    """Smallest distance from the pole axis (z) to the polyline through ``points``."""
-    u = np.linspace(0.0, 1.0, 9)[None, :, None]
-    samples = points[:-1, None] + u * (points[1:] - points[:-1])[:, None]
-    return float(np.linalg.norm(samples[..., :2], axis=-1).min())
-
-
 def _phase_rate_range(value: tuple[float, float] | None) -> tuple[float, float] | None:
     """Validated (low, high) keyframes per step; None keeps the gait's cadence fixed."""
     if value is None:
@@ -547,44 +510,6 @@ def _phase_rate_range(value: tuple[float, float] | None) -> tuple[float, float] 
     if not 0.0 <= lo <= 1.0 <= hi:
         raise ValueError(f"phase_rate_range must satisfy 0 <= low <= 1 <= high, got {value}")
     return (lo, hi)
-
-
-def _reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:
-    merged = {**DEFAULT_REWARD_WEIGHTS, **(weights or {})}
-    unknown = set(merged) - set(DEFAULT_REWARD_WEIGHTS)
-    if unknown:
-        raise ValueError(
-            f"reward_weights has unknown terms {sorted(unknown)}; "
-            f"known: {sorted(DEFAULT_REWARD_WEIGHTS)}"
-        )
-    return {key: check_finite(f"reward_weights[{key!r}]", value) for key, value in merged.items()}
-
-
-def _randomization(spec: bool | Mapping[str, Any] | None) -> dict[str, Any]:
-    """Validated domain-randomisation ranges (empty when off)."""
-    if spec is None or spec is False:
-        return {}
-    if spec is True:
-        return dict(DEFAULT_RANDOMIZATION)
-    unknown = set(spec) - set(DEFAULT_RANDOMIZATION)
-    if unknown:
-        raise ValueError(
-            f"domain_randomization has unknown keys {sorted(unknown)}; "
-            f"known: {sorted(DEFAULT_RANDOMIZATION)}"
-        )
-    out: dict[str, Any] = {}
-    for key, value in spec.items():
-        if key == "sensor_noise":
-            noise = check_finite("domain_randomization['sensor_noise']", value)
-            if noise < 0.0:
-                raise ValueError(f"domain_randomization['sensor_noise'] must be >= 0, got {noise}")
-            out[key] = noise
-            continue
-        lo, hi = (check_finite(f"domain_randomization[{key!r}]", v) for v in value)
-        if not 0.0 < lo <= hi:
-            raise ValueError(f"domain_randomization[{key!r}] must be 0 < low <= high, got {value}")
-        out[key] = (lo, hi)
-    return out
 
 
 __all__ = ["DEFAULT_RANDOMIZATION", "DEFAULT_REWARD_WEIGHTS", "ACLClimbEnv"]

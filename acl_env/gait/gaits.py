@@ -16,6 +16,13 @@ from functools import cached_property
 
 import numpy as np
 
+from acl_env.constants import (
+    DEFAULT_POLE_RADIUS,
+    JOINT_LIMIT,
+    SEA_MODULE_DIAMETER,
+    SEA_MODULE_LENGTH,
+    SEA_MODULE_RADIUS,
+)
 from acl_env.gait.curves import (
     PitchVaryingHelix,
     bellows_integrals,
@@ -26,10 +33,6 @@ from acl_env.gait.curves import (
 from acl_env.gait.kinematics import count_body_rolls
 from acl_env.validation import check_finite, check_int, check_positive
 
-SEA_MODULE_LENGTH = 0.0639  # m, joint to joint
-SEA_MODULE_DIAMETER = 0.0508  # m
-SEA_MODULE_RADIUS = 0.5 * SEA_MODULE_DIAMETER
-JOINT_LIMIT = 0.5 * np.pi  # rad, +-90 deg
 # phi_0 = ROLL_SIGN * 2 pi * rolls_per_cycle * phase: with this sign the body rolls so that the
 # snake moves toward its tail, i.e. up the pole (checked in MuJoCo, tests/test_env.py).
 ROLL_SIGN = 1.0
@@ -41,7 +44,6 @@ ROLL_SIGN = 1.0
 # touch, and the 1.34 m body makes about 2.3 turns. Omega = 2 inches (Omega = 1 only tilts the
 # helix); A_p = 1 cm keeps every joint inside +-90 deg and the chain within 1.3 cm rms of the
 # curve (a 2 cm wave pushes the chain's fit past 1.5 cm).
-DEFAULT_POLE_RADIUS = 0.075
 DEFAULT_SQUEEZE = 0.008
 
 

@@ -15,7 +15,8 @@ Conventions (shared with the MuJoCo model in :mod:`acl_env.model`):
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
@@ -108,6 +109,53 @@ def place_chain(angles: np.ndarray, backbone: np.ndarray, module_length: float) 
     rotation, translation, rms = rigid_fit(joints, backbone)
     points = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
     return PlacedChain(points, rotation @ frames, rotation, translation, rms)
+
+
+class HelixChain(Protocol):
+    """What the start-pose search needs of a gait: joint angles and backbone at a phase."""
+
+    module_length: float
+
+    def joint_angles(self, phase: float) -> np.ndarray: ...
+
+    def backbone(self, phase: float) -> np.ndarray: ...
+
+
+def min_axis_distance(points: np.ndarray) -> float:
+    """Smallest distance from the pole axis (z) to the polyline through ``points``."""
+    u = np.linspace(0.0, 1.0, 9)[None, :, None]
+    samples = points[:-1, None] + u * (points[1:] - points[:-1])[:, None]
+    return float(np.linalg.norm(samples[..., :2], axis=-1).min())
+
+
+def clear_placement(
+    gait_at: Callable[[float], HelixChain],
+    phase: float,
+    contact_radius: float,
+    clearance: float,
+    height: float,
+    tries: int = 8,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Joint angles and root pose of a keyframe drawn on a helix loose enough to clear the pole.
+
+    ``gait_at(radius)`` is the gait with its helix at ``radius``. Starting at ``contact_radius +
+    clearance`` (the contact radius is pole + module radius), the helix is loosened until every
+    point of the placed chain (:func:`place_chain`) is ``clearance`` clear of the contact radius,
+    at most ``tries`` times. Returns ``(angles, rotation, translation)``, the chain's root pose
+    lifted so that its lowest point is at ``height``.
+    """
+    radius = contact_radius + clearance
+    for _ in range(tries):
+        loose = gait_at(radius)
+        angles = loose.joint_angles(phase)
+        chain = place_chain(angles, loose.backbone(phase), loose.module_length)
+        rotation, translation, points = chain.rotation, chain.translation, chain.points
+        gap = min_axis_distance(points) - contact_radius
+        if gap >= clearance - 1e-4:
+            break
+        radius += clearance - gap + 1e-3
+    translation = translation + np.array([0.0, 0.0, height - points[:, 2].min()])
+    return angles, rotation, translation
 
 
 def backbone_fit_rms(

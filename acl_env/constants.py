@@ -1,0 +1,59 @@
+"""The robot, the scene and the simulation in numbers and names: one home for each constant.
+
+The gait library (pure numpy), the model builder and the environment all import from here, so
+this module imports nothing but the standard library. The SEA module figures are those of the
+CMU SEA snake in Chen & Roth's experiments (0.0639 m joint to joint, 0.0508 m wide, +-90 deg).
+"""
+
+from __future__ import annotations
+
+import math
+
+# -- the SEA snake module ---------------------------------------------------------------------
+SEA_MODULE_LENGTH = 0.0639  # m, joint to joint
+SEA_MODULE_DIAMETER = 0.0508  # m
+SEA_MODULE_RADIUS = 0.5 * SEA_MODULE_DIAMETER
+MODULE_MASS = 0.205  # kg
+PEAK_TORQUE = 7.0  # N m
+JOINT_LIMIT = 0.5 * math.pi  # rad, +-90 deg
+DEFAULT_N_JOINTS = 20
+
+# -- the scene --------------------------------------------------------------------------------
+DEFAULT_POLE_RADIUS = 0.075  # m
+DEFAULT_FRICTION = 1.0  # sliding friction of the snake's skin and the pole
+DEFAULT_KP = 20.0  # N m/rad: servo stiffness standing in for the series spring
+
+# -- time ---------------------------------------------------------------------------------------
+CONTROL_DT = 0.1  # s: one gait keyframe per control step, 10 Hz as on the robot
+PHYSICS_TIMESTEP = 0.002  # s: MuJoCo's step (the scene template's ``timestep``)
+
+# -- MuJoCo element names (every element of the model is named) --------------------------------
+SCENE_FILE = "scene.xml"
+POLE_GEOM = "pole"
+FLOOR_GEOM = "floor"
+IMU_SITE = "imu"
+IMU_QUAT_SENSOR = "imu_quat"
+IMU_GYRO_SENSOR = "imu_gyro"
+TRACK_CAMERA = "track"
+SIDE_CAMERA = "side"
+MODULE_CLASS = "sea_module"
+
+
+def link_name(k: int) -> str:
+    """Body of module ``k`` (0 = head)."""
+    return f"link_{k}"
+
+
+def shell_name(k: int) -> str:
+    """Capsule geom of module ``k``."""
+    return f"shell_{k}"
+
+
+def joint_name(j: int) -> str:
+    """Hinge ``j`` (0 = head joint), between link ``j`` and link ``j + 1``."""
+    return f"joint_{j}_{'dorsal' if j % 2 == 0 else 'lateral'}"
+
+
+def actuator_name(j: int) -> str:
+    """Position servo (the series spring) of joint ``j``."""
+    return f"servo_{j}"

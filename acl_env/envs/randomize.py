@@ -1,0 +1,115 @@
+"""Domain randomisation of the climbing scene: the ranges, their validation, and one draw applied.
+
+At every reset the env draws ``pole_radius``, ``friction``, ``kp`` and ``mass_scale`` uniformly
+from their ``(low, high)`` ranges (the others keep the env's nominal values), writes them into the
+compiled model, and scales the Gaussian sensor noise of the observation.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from acl_env.constants import POLE_GEOM, link_name
+from acl_env.model import snake_geom_ids
+from acl_env.validation import check_finite
+
+DEFAULT_RANDOMIZATION: dict[str, Any] = {
+    "pole_radius": (0.065, 0.09),
+    "friction": (0.7, 1.2),
+    "kp": (15.0, 30.0),
+    "mass_scale": (0.9, 1.1),
+    "sensor_noise": 0.01,
+}
+# The physical quantities a draw sets, in the order they are drawn (the order fixes the stream).
+PHYSICS_KEYS = ("pole_radius", "friction", "kp", "mass_scale")
+
+
+def check_randomization(spec: bool | Mapping[str, Any] | None) -> dict[str, Any]:
+    """Validated domain-randomisation ranges (empty when off; ``True`` gives the defaults)."""
+    if spec is None or spec is False:
+        return {}
+    if spec is True:
+        return dict(DEFAULT_RANDOMIZATION)
+    unknown = set(spec) - set(DEFAULT_RANDOMIZATION)
+    if unknown:
+        raise ValueError(
+            f"domain_randomization has unknown keys {sorted(unknown)}; "
+            f"known: {sorted(DEFAULT_RANDOMIZATION)}"
+        )
+    out: dict[str, Any] = {}
+    for key, value in spec.items():
+        if key == "sensor_noise":
+            noise = check_finite("domain_randomization['sensor_noise']", value)
+            if noise < 0.0:
+                raise ValueError(f"domain_randomization['sensor_noise'] must be >= 0, got {noise}")
+            out[key] = noise
+            continue
+        lo, hi = (check_finite(f"domain_randomization[{key!r}]", v) for v in value)
+        if not 0.0 < lo <= hi:
+            raise ValueError(f"domain_randomization[{key!r}] must be 0 < low <= high, got {value}")
+        out[key] = (lo, hi)
+    return out
+
+
+def draw_physics(
+    ranges: Mapping[str, Any], nominal: Mapping[str, float], rng: np.random.Generator
+) -> dict[str, float]:
+    """One draw of :data:`PHYSICS_KEYS`: uniform in ``ranges`` where given, else ``nominal``."""
+    return {
+        key: float(rng.uniform(*ranges[key])) if key in ranges else float(nominal[key])
+        for key in PHYSICS_KEYS
+    }
+
+
+@dataclass(frozen=True)
+class RandomizedElements:
+    """The model elements a draw writes, with the compiled masses and inertias it scales."""
+
+    pole_geom: int
+    snake_geoms: np.ndarray
+    snake_bodies: np.ndarray
+    mass: np.ndarray
+    inertia: np.ndarray
+
+    @classmethod
+    def of(cls, model: mujoco.MjModel, n_joints: int) -> RandomizedElements:
+        bodies = np.array([model.body(link_name(k)).id for k in range(n_joints + 1)])
+        return cls(
+            pole_geom=model.geom(POLE_GEOM).id,
+            snake_geoms=snake_geom_ids(model, n_joints),
+            snake_bodies=bodies,
+            mass=model.body_mass[bodies].copy(),
+            inertia=model.body_inertia[bodies].copy(),
+        )
+
+
+def apply_physics(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    elements: RandomizedElements,
+    values: Mapping[str, float],
+) -> None:
+    """Write a draw of :data:`PHYSICS_KEYS` into ``model`` (pole size, friction, servo gains,
+    link masses and inertias), then recompute what the compiler derived from them."""
+    model.geom_size[elements.pole_geom, 0] = values["pole_radius"]
+    model.geom_friction[elements.snake_geoms, 0] = values["friction"]
+    model.geom_friction[elements.pole_geom, 0] = values["friction"]
+    kp = values["kp"]
+    model.actuator_gainprm[:, 0] = kp
+    model.actuator_biasprm[:, 1] = -kp
+    scale = values["mass_scale"]
+    model.body_mass[elements.snake_bodies] = elements.mass * scale
+    model.body_inertia[elements.snake_bodies] = elements.inertia * scale
+    # The broadphase bounds of the pole (geom_rbound, geom_aabb) and the subtree masses that
+    # subtree_com divides by.
+    mujoco.mj_setConst(model, data)
+
+
+def sensor_noise_std(ranges: Mapping[str, Any], kp: float, n_joints: int) -> np.ndarray:
+    """Noise std on observed joint angles (rad), velocities (10x, rad/s), torques (kp x, N m)."""
+    return float(ranges.get("sensor_noise", 0.0)) * np.repeat([1.0, 10.0, kp], n_joints)

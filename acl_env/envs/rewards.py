@@ -1,0 +1,54 @@
+"""The reward of the climbing env: one small function per term, weighted by ``reward_weights``.
+
+``reward = sum_term w_term * term(step)``; the env reports each weighted term as
+``info["reward_<term>"]``. A new term is a function here and a key of
+:data:`DEFAULT_REWARD_WEIGHTS`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import NamedTuple
+
+from acl_env.validation import check_finite
+
+
+class StepMeasures(NamedTuple):
+    """What one env step measured (0 for climb and slip when the physics was unstable)."""
+
+    climb: float  # m: rise of the snake's centre of mass along the pole
+    slip: float  # m: mean sliding distance of the snake-pole contacts
+
+
+def climb_term(step: StepMeasures) -> float:
+    """Progress: the centre-of-mass rise (m)."""
+    return step.climb
+
+
+def slip_term(step: StepMeasures) -> float:
+    """Penalty: the mean sliding distance of the contacts on the pole (m), negated."""
+    return -step.slip
+
+
+REWARD_TERMS: dict[str, Callable[[StepMeasures], float]] = {
+    "climb": climb_term,
+    "slip": slip_term,
+}
+DEFAULT_REWARD_WEIGHTS: dict[str, float] = {"climb": 1.0, "slip": 1.0}
+
+
+def check_reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:
+    """Validated weights: the defaults overridden by ``weights``; unknown terms raise."""
+    merged = {**DEFAULT_REWARD_WEIGHTS, **(weights or {})}
+    unknown = set(merged) - set(DEFAULT_REWARD_WEIGHTS)
+    if unknown:
+        raise ValueError(
+            f"reward_weights has unknown terms {sorted(unknown)}; "
+            f"known: {sorted(DEFAULT_REWARD_WEIGHTS)}"
+        )
+    return {key: check_finite(f"reward_weights[{key!r}]", value) for key, value in merged.items()}
+
+
+def reward_terms(weights: Mapping[str, float], step: StepMeasures) -> dict[str, float]:
+    """``{"reward_<term>": w_term * term(step)}`` for every term; the reward is their sum."""
+    return {f"reward_{name}": weights[name] * term(step) for name, term in REWARD_TERMS.items()}

@@ -160,7 +160,7 @@ def surface_frame_offset(samples: CurveSamples, length: float) -> np.ndarray:
     A bellows chain has no roll joint, so its frame turns relative to the Frenet frame by
     ``-int tau``; the Frenet normal itself sits at an angle ``theta_F`` from the outward radial
     direction. Their sum, averaged over the body, is how much the body is rolled on the pole when
-    phi_0 = 0. DESIGN.md: for a modulated helix this can wind by 2 pi per cycle (a hidden roll).
+    phi_0 = 0. For a modulated helix it changes with the phase (docs/gait.md#hidden-roll).
     Only the value modulo 2 pi matters to the gait.
     """
     radial = samples.points * np.array([1.0, 1.0, 0.0])

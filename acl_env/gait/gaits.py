@@ -6,7 +6,7 @@ dorsal (about the link's y axis), odd joints lateral (about z), joint ``j`` at a
 and rises with ``t``: the head is the lowest end, and climbing is motion toward the tail (+z).
 
 Both gaits are periodic in ``phase`` (cycles). ``phi_0`` rolls the body once per cycle times
-``rolls_per_cycle`` (DESIGN.md section 1); its sign is chosen so that a positive roll rate climbs.
+``rolls_per_cycle`` (docs/gait.md#roll-offset), signed so that a positive roll rate climbs.
 """
 
 from __future__ import annotations
@@ -39,17 +39,17 @@ ROLL_SIGN = 1.0
 
 # Defaults for the 20-joint SEA snake on a 0.075 m pole. The contact radius of the backbone
 # (pole + module radius) is 0.1004 m; the helix is commanded 0.8 cm tighter, and the jointed
-# chain sits a further ~1 cm inside the curve, so the series springs squeeze the pole (DESIGN.md
-# section 3). The pitch (rise per turn, 0.10 m) is two module diameters: adjacent turns never
-# touch, and the 1.34 m body makes about 2.3 turns. Omega = 2 inches (Omega = 1 only tilts the
-# helix); A_p = 1 cm keeps every joint inside +-90 deg and the chain within 1.3 cm rms of the
-# curve (a 2 cm wave pushes the chain's fit past 1.5 cm).
+# chain sits a further ~1 cm inside the curve, so the series springs squeeze the pole
+# (docs/robot_and_contact.md#squeeze). The pitch (rise per turn, 0.10 m) is two module
+# diameters: adjacent turns never touch, and the 1.34 m body makes about 2.3 turns. Omega = 2
+# inches (Omega = 1 only tilts the helix); A_p = 1 cm keeps every joint inside +-90 deg and the
+# chain within 1.3 cm rms of the curve (a 2 cm wave pushes the chain's fit past 1.5 cm).
 DEFAULT_SQUEEZE = 0.008
 
 
 def helix_radius(pole_radius: float, squeeze: float = DEFAULT_SQUEEZE) -> float:
     """Backbone radius (m) that wraps a pole: its contact radius (pole + module radius) less the
-    squeeze that makes the series springs press on it (DESIGN.md section 3)."""
+    squeeze that makes the series springs press on it (docs/robot_and_contact.md#squeeze)."""
     return pole_radius + SEA_MODULE_RADIUS - squeeze
 
 
@@ -220,8 +220,9 @@ class ACLGait(Gait):
     The backbone (Eq. 1; Eq. 2 when ``amp_radial = 0``) is sampled per phase; kappa and tau are
     computed numerically and the joint angles follow the bellows model (Eq. 3-5), rotated by
     phi_0. ``rolls_per_cycle`` counts body rolls relative to the pole surface: the roll of the
-    Frenet frame itself, which a modulated helix can hide (DESIGN.md), is compensated in phi_0, so
-    ``rolls_per_cycle=0`` is a gait that truly does not roll and 1 is the paper's rolling ACL.
+    Frenet frame itself, which a modulated helix can hide (docs/gait.md#hidden-roll), is
+    compensated in phi_0, so ``rolls_per_cycle=0`` is a gait that truly does not roll and 1 is the
+    paper's rolling ACL.
     With ``amp_pitch = amp_radial = 0`` the compensation vanishes and this is the rolling helix.
 
     Args:

@@ -196,8 +196,8 @@ def count_body_rolls(table: np.ndarray, backbones: np.ndarray, module_length: fl
     ``table`` ``(K, n_joints)`` holds the joint angles of ``K`` keyframes spanning one cycle and
     ``backbones`` ``(K, n_joints, 3)`` the matching backbone points. Each link's surface roll is
     unwrapped over the cycle (closing back on keyframe 0); the mean net turn over 2 pi is returned,
-    positive for a right-handed roll about the head-to-tail axis. DESIGN.md warns that a
-    "non-rolling" command can hide a roll: this measures it from the kinematics alone.
+    positive for a right-handed roll about the head-to-tail axis. A "non-rolling" command can
+    hide a roll (docs/gait.md#hidden-roll): this measures it from the kinematics alone.
     """
     rolls = np.array(
         [surface_roll_angles(a, b, module_length) for a, b in zip(table, backbones, strict=True)]

@@ -1,4 +1,4 @@
-"""Shared test set-up: headless rendering through EGL (DESIGN.md section 4)."""
+"""Shared test set-up: headless rendering through EGL (docs/mujoco_notes.md#headless-rendering)."""
 
 import os
 

@@ -230,7 +230,8 @@ def test_domain_randomization_varies_physics_deterministically() -> None:
 
 
 def test_weak_springs_fall_off_and_terminate() -> None:
-    """DESIGN.md: kp = 2 N m/rad cannot hold the pole; the env must say the snake fell."""
+    """kp = 2 N m/rad cannot hold the pole (docs/robot_and_contact.md#spring-stiffness); the env
+    must say the snake fell."""
     env = ACLClimbEnv(kp=2.0)
     env.reset(seed=0)
     for _ in range(200):

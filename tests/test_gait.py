@@ -149,7 +149,7 @@ def test_measured_rolls_match_command(cls: type[Gait], rolls: float) -> None:
 @pytest.mark.parametrize("amp_pitch", [0.01, 0.02])
 def test_non_rolling_acl_holds_its_roll_within_the_cycle(amp_pitch: float) -> None:
     """rolls_per_cycle=0 holds at every keyframe, not only net: the Frenet frame of the modulated
-    helix swings ~0.3 rad per cycle (DESIGN.md's hidden roll), which phi_0 must cancel."""
+    helix swings ~0.3 rad per cycle (docs/gait.md#hidden-roll), which phi_0 must cancel."""
     gait = ACLGait(amp_pitch=amp_pitch, rolls_per_cycle=0.0)
     phases = np.arange(gait.steps_per_cycle) / gait.steps_per_cycle
     rolls = np.array(

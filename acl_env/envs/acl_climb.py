@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Mapping
 from functools import lru_cache
@@ -47,13 +48,37 @@ from acl_env.gait import ACLGait, Gait, RollingHelixGait
 from acl_env.gait.gaits import DEFAULT_SQUEEZE, helix_radius
 from acl_env.gait.kinematics import clear_placement
 from acl_env.model import assets_dir, build_model
-from acl_env.validation import check_finite, check_int, check_positive
+from acl_env.validation import (
+    check_bool,
+    check_choice,
+    check_finite,
+    check_int,
+    check_mapping,
+    check_positive,
+    check_range,
+    check_sequence,
+    check_string,
+)
 
 GAITS: dict[str, type[Gait] | None] = {
     "acl": ACLGait,
     "rolling_helix": RollingHelixGait,
     "none": None,
 }
+# Accepted ranges of the constructor's arguments (the Arguments table says why).
+N_JOINTS_RANGE = (3, 100)
+STEPS_PER_CYCLE_RANGE = (2, 2200)
+CYCLES_PER_EPISODE_RANGE = (1, 8)
+POLE_RADIUS_RANGE = (0.01, 0.5)  # m
+FRICTION_MAX = 5.0
+KP_MAX = 200.0  # N m/rad
+SQUEEZE_RANGE = (-0.05, 0.05)  # m
+RESIDUAL_SCALE_MAX = math.pi  # rad
+FALL_DISTANCE_MAX = 4.0  # m: the pole's height
+IMAGE_SIZE_RANGE = (1, 4096)  # pixels
+GAIT_SAMPLES_RANGE = (100, 1000)  # the ACL gait's n_samples
+# The env's own settings: a gait_kwargs entry for them would disagree with the model.
+GAIT_KWARGS_REFUSED = ("n_joints", "steps_per_cycle", "module_length", "module_diameter")
 SLIP_SAMPLES = 5  # contact velocities are sampled this many times per step (every 20 ms)
 START_CLEARANCE = 0.005  # m between shells and pole when the snake is placed
 START_HEIGHT = 0.3  # m from the floor to the lowest point of the snake at reset
@@ -129,30 +154,53 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     step's reward terms are then 0).
 
     ## Arguments
-    | argument | default | meaning |
-    |---|---|---|
-    | base_gait | "acl" | "acl", "rolling_helix" or "none" (pure RL ablation) |
-    | gait_kwargs | None | to the gait; ``radius`` defaults to pole + module radius - squeeze |
-    | residual_scale | 0.2 (pi/2 for "none") | rad of joint target per unit action |
-    | n_joints | 20 | joints (modules + 1 links) |
-    | pole_radius | 0.075 | m |
-    | friction | 1.0 | sliding friction of the snake's skin and the pole |
-    | kp | 20.0 | servo stiffness (the series spring), N m/rad |
-    | squeeze | 0.008 | m the gait's helix is commanded inside the contact radius |
-    | steps_per_cycle | 220 | keyframes per gait cycle (one per step, 0.1 s) |
-    | cycles_per_episode | 2 | episode length in cycles (the paper's evaluation) |
-    | reward_weights | {"climb": 1, "slip": 1} | weights of the reward terms |
-    | domain_randomization | None | True for defaults, or a dict (see below) |
-    | privileged_obs | False | append the centre of mass position and velocity |
-    | start_phase_range | 0.05 | fraction of a cycle the start keyframe is drawn from |
-    | reset_noise_scale | 0.02 | rad of joint noise at reset |
-    | fall_distance | 0.2 | m of centre-of-mass drop that counts as a fall |
-    | phase_rate_range | None | (low, high) keyframes per step: lets the policy set the cadence |
+    | argument | default | accepted | meaning |
+    |---|---|---|---|
+    | base_gait | "acl" | "acl", "rolling_helix", "none" | base gait ("none": pure RL ablation) |
+    | gait_kwargs | None | dict of numbers | to the gait; radius: pole + module radius - squeeze |
+    | residual_scale | 0.2 (pi/2 for "none") | (0, pi] | rad of joint target per unit action |
+    | n_joints | 20 | int in [3, 100] | joints (modules + 1 links) |
+    | pole_radius | 0.075 | [0.01, 0.5] | m |
+    | friction | 1.0 | (0, 5] | sliding friction of the snake's skin and the pole |
+    | kp | 20.0 | (0, 200] | servo stiffness (the series spring), N m/rad |
+    | squeeze | 0.008 | [-0.05, 0.05] | m the gait's helix is commanded inside the pole contact |
+    | steps_per_cycle | 220 | int in [2, 2200] | keyframes per gait cycle (one per step, 0.1 s) |
+    | cycles_per_episode | 2 | int in [1, 8] | episode length in cycles (the paper's evaluation) |
+    | reward_weights | {"climb": 1, "slip": 1} | dict of numbers | weights of the reward terms |
+    | domain_randomization | None | None, bool or dict | True for defaults, or a dict (see below) |
+    | privileged_obs | False | bool | append the centre of mass position and velocity |
+    | start_phase_range | 0.05 | [0, 1] | fraction of a cycle the start keyframe is drawn from |
+    | reset_noise_scale | 0.02 | [0, pi/2] | rad of joint noise at reset |
+    | fall_distance | 0.2 | (0, 4] | m of centre-of-mass drop that counts as a fall |
+    | phase_rate_range | None | None or (low, high) | keyframes per step: policy sets the cadence |
+    | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
+    | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
+    | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
+
+    Every argument is checked when the env is built: a value of the wrong kind (``"false"`` for
+    a bool, ``1`` for ``domain_randomization``, a string for a number) raises ``TypeError``, one
+    out of range ``ValueError``, both naming the argument and what it accepts. Every accepted
+    combination resets and steps with finite output (property-tested). The upper bounds and why:
+    ``n_joints <= 100``: 300 joints diverge during the reset and 1000 overflow MuJoCo's memory
+    arena (``mujoco.FatalError``). ``steps_per_cycle <= 2200`` (10x the paper's cadence): the
+    gait's keyframe table is computed in one batch, about 0.1 MB per keyframe (250 MB at 2200;
+    ``10**6`` needed 7 GB), which also bounds the ACL gait's ``n_samples`` to [100, 1000].
+    ``cycles_per_episode <= 8``: the pole is 4 m tall and the snake climbs 0.25-0.38 m per cycle
+    (open loop, policy), so it would reach the top after about 9 cycles; ``fall_distance <= 4``
+    for the same reason. ``residual_scale <= pi``: targets are clipped to +-pi/2, so a larger
+    residual changes nothing. ``phase_rate_range``: ``0 <= low <= 1 <= high <= steps_per_cycle /
+    2`` (beyond half a cycle per step the phase aliases). ``pole_radius``, ``friction``, ``kp``
+    and ``squeeze`` span about an order of magnitude around the SEA snake's own; ``squeeze`` must
+    also stay below pole + module radius. ``width``, ``height <= 4096``: MuJoCo's offscreen
+    buffer. ``gait_kwargs`` must not set ``n_joints``, ``steps_per_cycle`` (the env's),
+    ``module_length`` or ``module_diameter`` (the model's).
 
     ``domain_randomization`` draws, at every reset, ``pole_radius``, ``friction``, ``kp`` and
     ``mass_scale`` uniformly from ``(low, high)`` ranges and adds Gaussian ``sensor_noise`` (std:
     that many rad on angles, 10x in rad/s on velocities, kp x in N m on torques). ``True`` uses
-    ``DEFAULT_RANDOMIZATION``. The gait's radius follows the drawn pole radius.
+    ``DEFAULT_RANDOMIZATION``. The gait's radius follows the drawn pole radius. Each range must lie
+    inside the accepted range of the argument of that name; ``0 < mass_scale <= 10`` and
+    ``0 <= sensor_noise <= 1``.
 
     ## Version History
     * v0: initial release.
@@ -211,35 +259,60 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             height,
             camera_name,
         )
-        if base_gait not in GAITS:
-            raise ValueError(f"base_gait must be one of {sorted(GAITS)}, got {base_gait!r}")
-        self.base_gait = base_gait
-        self.gait_kwargs = dict(gait_kwargs or {})
-        for key in ("n_joints", "steps_per_cycle"):
-            if key in self.gait_kwargs:
-                raise ValueError(f"gait_kwargs must not set {key!r}: pass it to the env instead")
-        default_scale = JOINT_LIMIT if base_gait == "none" else 0.2
-        self.residual_scale = check_positive(
-            "residual_scale", default_scale if residual_scale is None else residual_scale
+        # Every argument is checked for type and range here (TypeError / ValueError naming it),
+        # so that no value accepted now can crash reset or step later.
+        self.base_gait = check_choice("base_gait", base_gait, tuple(GAITS))
+        self.n_joints = check_int("n_joints", n_joints, *N_JOINTS_RANGE)
+        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, *STEPS_PER_CYCLE_RANGE)
+        self.cycles_per_episode = check_int(
+            "cycles_per_episode", cycles_per_episode, *CYCLES_PER_EPISODE_RANGE
         )
-        self.n_joints = check_int("n_joints", n_joints, 3)
-        self.pole_radius = check_positive("pole_radius", pole_radius)
-        if helix_radius(self.pole_radius, squeeze) <= 0.0:
-            raise ValueError(f"squeeze={squeeze} leaves no helix radius for this pole")
-        self.friction = check_positive("friction", friction)
-        self.kp = check_positive("kp", kp)
-        self.squeeze = check_finite("squeeze", squeeze)
-        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2)
-        self.cycles_per_episode = check_int("cycles_per_episode", cycles_per_episode, 1)
-        self.reward_weights = check_reward_weights(reward_weights)
-        self.randomization = check_randomization(domain_randomization)
-        self.privileged_obs = bool(privileged_obs)
-        self.start_phase_range = check_finite("start_phase_range", start_phase_range)
-        if not 0.0 <= self.start_phase_range <= 1.0:
-            raise ValueError(f"start_phase_range must be in [0, 1], got {start_phase_range}")
-        self.reset_noise_scale = check_finite("reset_noise_scale", reset_noise_scale)
-        self.fall_distance = check_positive("fall_distance", fall_distance)
-        self.phase_rate_range = _phase_rate_range(phase_rate_range)
+        default_scale = JOINT_LIMIT if self.base_gait == "none" else 0.2
+        self.residual_scale = check_positive(
+            "residual_scale",
+            default_scale if residual_scale is None else residual_scale,
+            RESIDUAL_SCALE_MAX,
+        )
+        self.pole_radius = check_range("pole_radius", pole_radius, *POLE_RADIUS_RANGE)
+        self.friction = check_positive("friction", friction, FRICTION_MAX)
+        self.kp = check_positive("kp", kp, KP_MAX)
+        self.squeeze = check_range("squeeze", squeeze, *SQUEEZE_RANGE)
+        self.reward_weights = check_reward_weights(
+            None
+            if reward_weights is None
+            else check_mapping("reward_weights", reward_weights, DEFAULT_REWARD_WEIGHTS)
+        )
+        self.randomization = check_randomization(
+            domain_randomization,
+            {
+                "pole_radius": POLE_RADIUS_RANGE,
+                "friction": (0.0, FRICTION_MAX),
+                "kp": (0.0, KP_MAX),
+            },
+        )
+        self.privileged_obs = check_bool("privileged_obs", privileged_obs)
+        self.start_phase_range = check_range("start_phase_range", start_phase_range, 0.0, 1.0)
+        self.reset_noise_scale = check_range(
+            "reset_noise_scale", reset_noise_scale, 0.0, JOINT_LIMIT
+        )
+        self.fall_distance = check_positive("fall_distance", fall_distance, FALL_DISTANCE_MAX)
+        self.phase_rate_range = _phase_rate_range(phase_rate_range, self.steps_per_cycle)
+        if render_mode is not None:
+            check_choice("render_mode", render_mode, tuple(self.metadata["render_modes"]))
+        check_int("width", width, *IMAGE_SIZE_RANGE)
+        check_int("height", height, *IMAGE_SIZE_RANGE)
+        check_string("camera_name", camera_name)
+        self.gait_kwargs = _gait_kwargs(gait_kwargs, self.base_gait)
+        # The gait must exist for every pole the episodes can draw (its radius follows the pole).
+        radii = {self.pole_radius, *self.randomization.get("pole_radius", ())}
+        for radius in sorted(radii):
+            if helix_radius(radius, self.squeeze) <= 0.0 and "radius" not in self.gait_kwargs:
+                raise ValueError(
+                    f"squeeze={self.squeeze} leaves no helix radius for a pole of {radius} m "
+                    f"(squeeze must be below pole radius + {SEA_MODULE_RADIUS} m)"
+                )
+            start_gait = self.base_gait if GAITS[self.base_gait] else "acl"
+            GAITS[start_gait](**self._gait_kwargs(radius))  # raises naming the bad entry
 
         self.gait = self._make_gait(self.pole_radius)
         n = self.n_joints
@@ -256,6 +329,11 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             height=height,
             camera_name=camera_name,
         )
+        if mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_CAMERA, camera_name) < 0:
+            cameras = [self.model.camera(i).name for i in range(self.model.ncam)]
+            raise ValueError(
+                f"camera_name must be one of the model's cameras {cameras}, got {camera_name!r}"
+            )
         n_actions = n + (self.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         self._elements = RandomizedElements.of(self.model, n)
@@ -502,14 +580,41 @@ def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:
     return slice(start, start + int(sensor.dim[0]))
 
 
-def _phase_rate_range(value: tuple[float, float] | None) -> tuple[float, float] | None:
+def _phase_rate_range(
+    value: tuple[float, float] | None, steps_per_cycle: int
+) -> tuple[float, float] | None:
     """Validated (low, high) keyframes per step; None keeps the gait's cadence fixed."""
     if value is None:
         return None
-    lo, hi = (check_finite("phase_rate_range", v) for v in value)
-    if not 0.0 <= lo <= 1.0 <= hi:
-        raise ValueError(f"phase_rate_range must satisfy 0 <= low <= 1 <= high, got {value}")
+    lo, hi = check_sequence("phase_rate_range", value, 2, check_finite)
+    if not 0.0 <= lo <= 1.0 <= hi <= steps_per_cycle / 2:
+        raise ValueError(
+            "phase_rate_range must satisfy 0 <= low <= 1 <= high <= steps_per_cycle / 2 "
+            f"= {steps_per_cycle / 2}, got {value}"
+        )
     return (lo, hi)
+
+
+def _gait_kwargs(value: Mapping[str, Any] | None, base_gait: str) -> dict[str, Any]:
+    """Validated keyword arguments of the base gait (of ACL, which places the start pose, for
+    ``"none"``): known keys, real numbers, an integer ``n_samples`` within its memory bound."""
+    if value is None:
+        return {}
+    gait_class = GAITS[base_gait] or ACLGait
+    known = [k for k in inspect.signature(gait_class).parameters if k not in GAIT_KWARGS_REFUSED]
+    for key in GAIT_KWARGS_REFUSED:
+        if isinstance(value, Mapping) and key in value:
+            owner = (
+                "pass it to the env" if key in ("n_joints", "steps_per_cycle") else "the model's"
+            )
+            raise ValueError(f"gait_kwargs must not set {key!r} ({owner})")
+    kwargs = check_mapping("gait_kwargs", value, known)
+    return {
+        key: check_int(f"gait_kwargs[{key!r}]", v, *GAIT_SAMPLES_RANGE)
+        if key == "n_samples"
+        else check_finite(f"gait_kwargs[{key!r}]", v)
+        for key, v in kwargs.items()
+    }
 
 
 __all__ = ["DEFAULT_RANDOMIZATION", "DEFAULT_REWARD_WEIGHTS", "ACLClimbEnv"]

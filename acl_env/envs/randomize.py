@@ -7,6 +7,7 @@ compiled model, and scales the Gaussian sensor noise of the observation.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -16,7 +17,7 @@ import numpy as np
 
 from acl_env.constants import POLE_GEOM, link_name
 from acl_env.model import snake_geom_ids
-from acl_env.validation import check_finite
+from acl_env.validation import check_finite, check_mapping, check_range, check_sequence
 
 DEFAULT_RANDOMIZATION: dict[str, Any] = {
     "pole_radius": (0.065, 0.09),
@@ -25,33 +26,51 @@ DEFAULT_RANDOMIZATION: dict[str, Any] = {
     "mass_scale": (0.9, 1.1),
     "sensor_noise": 0.01,
 }
+# Widest accepted (low, high) of each range; the env passes its own argument bounds as well.
+RANGE_BOUNDS: dict[str, tuple[float, float]] = {
+    "pole_radius": (0.0, math.inf),
+    "friction": (0.0, math.inf),
+    "kp": (0.0, math.inf),
+    "mass_scale": (0.0, 10.0),  # up to ten times the SEA module's 0.205 kg
+}
+SENSOR_NOISE_MAX = 1.0  # rad: beyond this the angles are noise
 # The physical quantities a draw sets, in the order they are drawn (the order fixes the stream).
 PHYSICS_KEYS = ("pole_radius", "friction", "kp", "mass_scale")
 
 
-def check_randomization(spec: bool | Mapping[str, Any] | None) -> dict[str, Any]:
-    """Validated domain-randomisation ranges (empty when off; ``True`` gives the defaults)."""
-    if spec is None or spec is False:
+def check_randomization(
+    spec: object, bounds: Mapping[str, tuple[float, float]] | None = None
+) -> dict[str, Any]:
+    """Validated domain-randomisation ranges (empty when off; ``True`` gives the defaults).
+
+    ``spec`` is ``None``, a bool or a mapping from :data:`DEFAULT_RANDOMIZATION`'s keys to
+    ``(low, high)`` pairs with ``0 < low <= high`` (and ``sensor_noise`` to a std in [0, 1]).
+    ``bounds`` (the env's accepted ranges of its own ``pole_radius``, ``friction``, ``kp``) caps
+    the draws: a draw is a value the constructor would have accepted.
+    """
+    if spec is None:
         return {}
-    if spec is True:
-        return dict(DEFAULT_RANDOMIZATION)
-    unknown = set(spec) - set(DEFAULT_RANDOMIZATION)
-    if unknown:
-        raise ValueError(
-            f"domain_randomization has unknown keys {sorted(unknown)}; "
-            f"known: {sorted(DEFAULT_RANDOMIZATION)}"
+    if isinstance(spec, bool | np.bool_):
+        return dict(DEFAULT_RANDOMIZATION) if spec else {}
+    if not isinstance(spec, Mapping):
+        raise TypeError(
+            "domain_randomization must be None, True, False or a dict with keys from "
+            f"{sorted(DEFAULT_RANDOMIZATION)}, got {spec!r} ({type(spec).__name__})"
         )
+    limits = {**RANGE_BOUNDS, **(bounds or {})}
     out: dict[str, Any] = {}
-    for key, value in spec.items():
+    for key, value in check_mapping("domain_randomization", spec, DEFAULT_RANDOMIZATION).items():
+        name = f"domain_randomization[{key!r}]"
         if key == "sensor_noise":
-            noise = check_finite("domain_randomization['sensor_noise']", value)
-            if noise < 0.0:
-                raise ValueError(f"domain_randomization['sensor_noise'] must be >= 0, got {noise}")
-            out[key] = noise
+            out[key] = check_range(name, value, 0.0, SENSOR_NOISE_MAX)
             continue
-        lo, hi = (check_finite(f"domain_randomization[{key!r}]", v) for v in value)
-        if not 0.0 < lo <= hi:
-            raise ValueError(f"domain_randomization[{key!r}] must be 0 < low <= high, got {value}")
+        lo, hi = check_sequence(name, value, 2, check_finite)
+        low, high = limits[key]
+        if not (low <= lo and 0.0 < lo <= hi <= high):
+            raise ValueError(
+                f"{name} must be (low, high) with {low} <= low, 0 < low <= high <= {high}, "
+                f"got {value!r}"
+            )
         out[key] = (lo, hi)
     return out
 

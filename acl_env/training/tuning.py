@@ -1,0 +1,804 @@
+"""The open-loop tuner: Optuna searches the ACL gait's parameters for the best open-loop gait.
+
+Each trial builds ``ACLClimb`` with a candidate squeeze and ``gait_kwargs`` (amp_pitch,
+spatial_freq, amp_radial, radial_freq, pitch of Eq. 1; ``rolls_per_cycle`` 1, or 0 with
+``--no-roll``), plays it open loop (zero action: one keyframe per step, the gait's own cadence) on
+a few seeds, and scores it by one evaluation metric, by default the env's reward per gait cycle
+under the given ``reward_weights`` (default: the training config's). A gait that falls on any
+seed, or whose keyframe table the +-90 deg joint limit clips in more than ``max_clipped`` of its
+(keyframe, joint) entries, is disqualified (the trial is pruned, its reason in the user
+attribute ``disqualified``). Every trial stores its metrics (mean
+over seeds) as user attributes.
+
+Parallel and resumable as rl_zoo3's ``--optimize --storage``: the study lives in a database
+(SQLite file by default, any SQLAlchemy URL Optuna accepts), ``--n-jobs`` worker processes share
+it, and so can other processes or machines pointed at the same URL. ``--n-trials`` is the study's
+total (finished trials count), so rerunning the same command resumes an interrupted study.
+
+Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per key ("acl", or
+"acl_noroll" with ``--no-roll``)::
+
+    acl:
+      env_id: acl_env/ACLClimb-v0     # the env the gait was tuned on
+      env_kwargs:                      # pass to gymnasium.make(env_id, **env_kwargs)
+        squeeze: 0.004                 # m
+        gait_kwargs: {pitch: .., amp_pitch: .., spatial_freq: .., amp_radial: ..,
+                      radial_freq: .., rolls_per_cycle: 1}
+      objective: reward_per_gait_cycle # the metric maximised (or minimised)
+      reward_weights: {climb: 1.0, slip: 2.0}
+      seeds: [0, 1, 2]                 # reset seeds of each trial's episodes
+      steps_per_cycle: 220
+      cycles_per_episode: 2
+      trials: 300                      # finished trials (complete + disqualified)
+      best_trial: 123
+      study: acl
+      metrics: {climb_per_gait_cycle_m: .., slip_per_m: .., energy_per_m: ..,
+                reward_per_gait_cycle: .., falls: 0.0}     # best gait, mean over seeds
+      default_gait_metrics: {...}      # the untuned gait, same protocol (the study's trial 0)
+
+    acl-tune-gait --n-trials 300                  # rolling ACL, training reward weights
+    acl-tune-gait --no-roll --n-trials 300        # non-rolling ACL, key acl_noroll
+    acl-tune-gait --n-jobs 2 --storage sqlite:///runs/tune_gait.db   # two worker processes
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import multiprocessing
+import os
+import socket
+import sys
+import time
+import warnings
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, NoReturn
+
+import gymnasium
+import numpy as np
+import optuna
+import yaml
+from tqdm import tqdm
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.evaluation import mean_ci95
+from acl_env.gait.gaits import (
+    DEFAULT_AMP_PITCH,
+    DEFAULT_PITCH,
+    DEFAULT_POLE_RADIUS,
+    DEFAULT_SQUEEZE,
+    SEA_MODULE_DIAMETER,
+    helix_radius,
+)
+from acl_env.training.config import load_hyperparams, parse_kv_pairs
+
+DEFAULT_CONFIG = Path("train/configs/ppo.yml")
+DEFAULT_OUTPUT = Path("train/configs/tuned_gaits.yml")
+DEFAULT_STORAGE = Path("runs/tune_gait.db")
+DEFAULT_PLOT = "docs/frontier_{key}.png"
+DEFAULT_SEEDS = (0, 1, 2)
+
+# Metrics a study can optimise, with their direction (names as in acl_env.evaluation).
+OBJECTIVES = {
+    "reward_per_gait_cycle": "maximize",
+    "climb_per_gait_cycle_m": "maximize",
+    "slip_per_m": "minimize",
+    "energy_per_m": "minimize",
+}
+METRICS = (
+    "climb_per_gait_cycle_m",
+    "slip_per_m",
+    "energy_per_m",
+    "reward_per_gait_cycle",
+    "falls",
+)
+ENV_PARAMS = ("squeeze",)  # searched parameters that are env arguments; the rest are gait_kwargs
+
+
+@dataclass(frozen=True)
+class ParamRange:
+    """A searched parameter's bounds; ``integer`` ones are suggested as whole numbers."""
+
+    low: float
+    high: float
+    integer: bool = False
+
+
+# Default search space. The hard limits of the gait (checked by check_space, the gait raises
+# otherwise) are A_p, A_r >= 0, A_r below the helix radius, pitch >= one module diameter and, for
+# this tuner, whole wave numbers; inside them the ranges are chosen as follows (the clipping
+# shares are those of 400 random gaits of this space with Omega, k_r up to 4: half of them clip
+# more than 10 % of their joint angles and are disqualified without a rollout):
+# - squeeze -0.4 to 1.6 cm: from a loose helix (-0.4 cm climbs 0.141 m/cycle at default waves, the
+#   grip giving way) to twice the default 0.8 cm (1.2 cm costs 1549 J/m against 1176: the energy
+#   grows with the squeeze). The helix radius 10.04 cm - squeeze stays far above A_r.
+# - amp_pitch 0-5 cm: 0 is the rolling helix; the best non-rolling gaits measured so far use 3-4
+#   cm (clipping 4-8 % of their joint angles); above 3.6 cm three gaits in four clip over 10 %.
+# - spatial_freq, radial_freq 1-3, whole numbers: a whole number of waves per turn repeats the
+#   wave on every turn, so adjacent turns stay exactly one pitch apart (z(t + 2 pi) - z(t) =
+#   pitch) and the pitch bound below keeps them from colliding all along the body. Omega >= 1:
+#   the wave's direction sets the direction of travel (Omega = -2 slides down). At 4 waves per
+#   turn 70 % of the gaits clip over 10 % (21-34 % at 1-2).
+# - amp_radial 0-2.5 cm: 0 is the paper's Eq. 2; at 2 cm with A_p 4 cm the non-rolling gait
+#   already falls.
+# - pitch 7-16 cm: at least 7 cm leaves 2 cm between turns of the 5.08 cm modules (the gait
+#   refuses less than one module diameter); at 16 cm the 1.34 m body still makes two turns.
+SEARCH_SPACE: dict[str, ParamRange] = {
+    "squeeze": ParamRange(-0.004, 0.016),
+    "amp_pitch": ParamRange(0.0, 0.05),
+    "spatial_freq": ParamRange(1, 3, integer=True),
+    "amp_radial": ParamRange(0.0, 0.025),
+    "radial_freq": ParamRange(1, 3, integer=True),
+    "pitch": ParamRange(0.07, 0.16),
+}
+# The untuned gait (the env's and ACLGait's defaults): trial 0 of every new study.
+DEFAULT_PARAMS: dict[str, float] = {
+    "squeeze": DEFAULT_SQUEEZE,
+    "amp_pitch": DEFAULT_AMP_PITCH,
+    "spatial_freq": 2,
+    "amp_radial": 0.0,
+    "radial_freq": 2,
+    "pitch": DEFAULT_PITCH,
+}
+HEADER = """\
+# Best open-loop ACL gaits found by the open-loop tuner (acl_env/training/tuning.py), one entry
+# per objective key ("acl": rolling ACL; "acl_noroll": rolls_per_cycle 0). Written by
+#   python train/tune_gait.py [--no-roll] --n-trials N       (or: acl-tune-gait ...)
+# and read by evaluation (the open_loop_tuned controller). Per entry:
+#   env_id, env_kwargs     gymnasium.make(env_id, **env_kwargs) plays the tuned gait with a zero
+#                          action (env_kwargs: squeeze in m, gait_kwargs for ACLGait)
+#   objective              the metric optimised, under reward_weights (the env's weights)
+#   seeds, steps_per_cycle, cycles_per_episode   each trial's episodes (reset seeds)
+#   trials, best_trial, study   finished trials of the Optuna study, the best one, its name
+#   metrics                the best gait's metrics, mean over the seeds
+#   default_gait_metrics   the untuned default gait under the same protocol
+"""
+
+
+class UsageError(ValueError):
+    """Bad command-line input: reported as one line naming the argument, exit status 2."""
+
+    def __init__(self, argument: str, message: str) -> None:
+        super().__init__(f"argument {argument}: {message}")
+
+
+@dataclass(frozen=True)
+class TuneSettings:
+    """What defines a study: changing any of these needs a new study name."""
+
+    objective: str = "reward_per_gait_cycle"
+    reward_weights: dict[str, float] = field(default_factory=dict)
+    rolls_per_cycle: int = 1
+    seeds: tuple[int, ...] = DEFAULT_SEEDS
+    steps_per_cycle: int = 220
+    cycles_per_episode: int = 2
+    max_clipped: float = 0.1
+    space: dict[str, ParamRange] = field(default_factory=lambda: dict(SEARCH_SPACE))
+
+    @property
+    def direction(self) -> str:
+        return OBJECTIVES[self.objective]
+
+    def as_attrs(self) -> dict[str, Any]:
+        """JSON-friendly form stored in the study's user attributes."""
+        out = asdict(self)
+        out["seeds"] = list(self.seeds)
+        out["space"] = {k: [v.low, v.high, v.integer] for k, v in self.space.items()}
+        return out
+
+    def env_kwargs(self, params: Mapping[str, float]) -> dict[str, Any]:
+        """Env arguments that play the gait ``params`` (squeeze and ``gait_kwargs``)."""
+        gait = {k: v for k, v in params.items() if k not in ENV_PARAMS}
+        gait["rolls_per_cycle"] = self.rolls_per_cycle
+        env = {k: v for k, v in params.items() if k in ENV_PARAMS}
+        return {**env, "gait_kwargs": gait}
+
+    def protocol_kwargs(self) -> dict[str, Any]:
+        """Env arguments of the evaluation protocol (the same for every trial)."""
+        return {
+            "steps_per_cycle": self.steps_per_cycle,
+            "cycles_per_episode": self.cycles_per_episode,
+            "reward_weights": dict(self.reward_weights),
+        }
+
+
+# --- validation -----------------------------------------------------------------------------------
+
+
+def check_space(space: Mapping[str, ParamRange], pole_radius: float = DEFAULT_POLE_RADIUS) -> None:
+    """Raise :class:`UsageError` (``--space``) if a range leaves the gait's validity."""
+    for name, r in space.items():
+        if name not in SEARCH_SPACE:
+            raise UsageError("--space", f"unknown parameter {name!r}; known: {list(SEARCH_SPACE)}")
+        if not (math.isfinite(r.low) and math.isfinite(r.high)) or r.low > r.high:
+            raise UsageError("--space", f"{name} needs finite low <= high, got {r.low}:{r.high}")
+        if r.integer and (r.low != round(r.low) or r.high != round(r.high)):
+            raise UsageError(
+                "--space",
+                f"{name} takes whole numbers (a whole number of waves per turn keeps adjacent "
+                f"turns one pitch apart), got {r.low}:{r.high}",
+            )
+    for name in ("amp_pitch", "amp_radial"):
+        if space[name].low < 0.0:
+            raise UsageError("--space", f"{name} must be >= 0, got low {space[name].low}")
+    if space["pitch"].low < SEA_MODULE_DIAMETER:
+        raise UsageError(
+            "--space",
+            f"pitch must be at least one module diameter ({SEA_MODULE_DIAMETER} m) so that "
+            f"adjacent turns do not collide, got low {space['pitch'].low}",
+        )
+    radius = helix_radius(pole_radius, space["squeeze"].high)
+    if space["amp_radial"].high >= radius:
+        raise UsageError(
+            "--space",
+            f"amp_radial must stay below the helix radius ({radius:.4f} m at squeeze "
+            f"{space['squeeze'].high}), got high {space['amp_radial'].high}",
+        )
+
+
+def parse_space(items: Sequence[str]) -> dict[str, ParamRange]:
+    """``NAME:LOW:HIGH`` overrides of :data:`SEARCH_SPACE`, checked against the gait's validity."""
+    space = dict(SEARCH_SPACE)
+    for item in items:
+        parts = item.split(":")
+        if len(parts) != 3:
+            raise UsageError("--space", f"expected NAME:LOW:HIGH, got {item!r}")
+        name, low, high = parts
+        if name not in SEARCH_SPACE:
+            raise UsageError("--space", f"unknown parameter {name!r}; known: {list(SEARCH_SPACE)}")
+        try:
+            bounds = float(low), float(high)
+        except ValueError:
+            raise UsageError("--space", f"{name} bounds must be numbers, got {item!r}") from None
+        space[name] = ParamRange(*bounds, integer=SEARCH_SPACE[name].integer)
+    check_space(space)
+    return space
+
+
+def storage_url(storage: str) -> str:
+    """An Optuna storage URL: a plain path becomes an SQLite file URL."""
+    return storage if "://" in storage else f"sqlite:///{storage}"
+
+
+def open_storage(storage: str) -> optuna.storages.RDBStorage:
+    """The study database (created if missing); unreadable storage raises :class:`UsageError`.
+
+    The heartbeat marks trials of a killed process as failed, so a rerun redoes them; the SQLite
+    timeout lets several processes wait for each other's writes.
+    """
+    url = storage_url(storage)
+    if url.startswith("sqlite:///"):
+        path = Path(url.removeprefix("sqlite:///"))
+        if path.is_dir():
+            raise UsageError("--storage", f"{path} is a folder, not a database file")
+        if not path.parent.exists():
+            path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with warnings.catch_warnings():  # heartbeat_interval: experimental since Optuna 2.9
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            return optuna.storages.RDBStorage(
+                url,
+                engine_kwargs={"connect_args": {"timeout": 60}} if url.startswith("sqlite") else {},
+                heartbeat_interval=30,
+                grace_period=120,
+            )
+    except Exception as exc:  # SQLAlchemy raises many types: all mean "cannot use this storage"
+        raise UsageError("--storage", f"cannot open {storage!r}: {exc}".splitlines()[0]) from None
+
+
+# --- the objective --------------------------------------------------------------------------------
+
+
+def rollout_metrics(env: gymnasium.Env, seed: int) -> dict[str, float]:
+    """One open-loop episode (zero action) from ``reset(seed=seed)``: the per-episode metrics.
+
+    Gait cycles executed = keyframes advanced / steps_per_cycle; slip and energy per metre of
+    climb are NaN when the episode did not climb.
+    """
+    env.reset(seed=seed)
+    zero = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)
+    reward = climb = slip = energy = keyframes = 0.0
+    terminated = truncated = False
+    info: dict[str, Any] = {}
+    while not (terminated or truncated):
+        _, r, terminated, truncated, info = env.step(zero)
+        reward += float(r)
+        climb += float(info["climb"])
+        slip += float(info["slip"])
+        energy += float(info["energy"])
+        keyframes += float(info["phase_rate"])
+    cycles = keyframes / env.unwrapped.steps_per_cycle
+    return {
+        "climb_per_gait_cycle_m": climb / cycles,
+        "slip_per_m": slip / climb if climb > 0.0 else math.nan,
+        "energy_per_m": energy / climb if climb > 0.0 else math.nan,
+        "reward_per_gait_cycle": reward / cycles,
+        "falls": float(bool(terminated and info.get("fell", False))),
+    }
+
+
+def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict[str, float]:
+    """The trial's gait parameters from the search space."""
+    params: dict[str, float] = {}
+    for name, r in space.items():
+        if r.integer:
+            params[name] = trial.suggest_int(name, int(r.low), int(r.high))
+        else:
+            params[name] = trial.suggest_float(name, r.low, r.high)
+    return params
+
+
+def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
+    """Optuna objective: the mean of ``settings.objective`` over the seeds, falls disqualifying."""
+
+    def objective(trial: optuna.Trial) -> float:
+        trial.set_user_attr("worker", f"{socket.gethostname()}:{os.getpid()}")
+        params = suggest_params(trial, settings.space)
+        kwargs = {**settings.protocol_kwargs(), **settings.env_kwargs(params)}
+        env = gymnasium.make(ACL_CLIMB_ID, **kwargs)
+        try:
+            saturation = env.unwrapped.gait.saturation
+            trial.set_user_attr("clipped_fraction", saturation.sample_fraction)
+            trial.set_user_attr("clipped_max_rad", saturation.max_excess)
+            if saturation.sample_fraction > settings.max_clipped:
+                trial.set_user_attr("disqualified", "saturated")
+                raise optuna.TrialPruned(f"joint limit clips {saturation.sample_fraction:.0%}")
+            episodes = []
+            for step, seed in enumerate(settings.seeds):
+                episodes.append(rollout_metrics(env, seed))
+                trial.report(episodes[-1][settings.objective], step)
+                if episodes[-1]["falls"]:
+                    break
+        finally:
+            env.close()
+        metrics = {m: mean_ci95(e[m] for e in episodes)["mean"] for m in METRICS}
+        for name, value in metrics.items():
+            trial.set_user_attr(name, value)
+        trial.set_user_attr("seeds_run", len(episodes))
+        if metrics["falls"] > 0.0:
+            trial.set_user_attr("disqualified", "fell")
+            raise optuna.TrialPruned(f"fell on seed {settings.seeds[len(episodes) - 1]}")
+        value = metrics[settings.objective]
+        if math.isnan(value):
+            trial.set_user_attr("disqualified", "no climb")
+            raise optuna.TrialPruned("no climb: the metric per metre is undefined")
+        return value
+
+    return objective
+
+
+# --- running the study ----------------------------------------------------------------------------
+
+FINISHED = (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED)
+
+
+def _counted(study: optuna.Study) -> int:
+    """Trials that count toward ``--n-trials``: finished, or running in some process."""
+    states = (*FINISHED, optuna.trial.TrialState.RUNNING)
+    return len(study.get_trials(deepcopy=False, states=states))
+
+
+def _sampler(seed: int | None) -> optuna.samplers.TPESampler:
+    # constant_liar: workers sharing a study do not all sample next to the same running trial.
+    return optuna.samplers.TPESampler(
+        n_startup_trials=10, multivariate=True, constant_liar=True, seed=seed
+    )
+
+
+def run_worker(
+    settings: TuneSettings,
+    storage: str,
+    study_name: str,
+    quota: int,
+    n_trials: int,
+    seed: int | None = None,
+    callbacks: Sequence[Callable[[optuna.Study, optuna.trial.FrozenTrial], None]] = (),
+) -> None:
+    """Run up to ``quota`` trials, stopping early once the study holds ``n_trials``."""
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.load_study(
+        study_name=study_name, storage=open_storage(storage), sampler=_sampler(seed)
+    )
+    objective = make_objective(settings)
+    try:
+        for _ in range(quota):
+            if _counted(study) >= n_trials:
+                break
+            study.optimize(objective, n_trials=1, callbacks=list(callbacks))
+    except KeyboardInterrupt:
+        pass  # the running trial is marked failed; a rerun redoes it
+
+
+def prepare_study(
+    settings: TuneSettings, storage: str, study_name: str
+) -> tuple[optuna.Study, optuna.storages.RDBStorage]:
+    """Create or resume the study; a study run with other settings raises :class:`UsageError`."""
+    rdb = open_storage(storage)
+    try:
+        study = optuna.create_study(
+            study_name=study_name,
+            storage=rdb,
+            direction=settings.direction,
+            load_if_exists=True,
+        )
+    except Exception as exc:
+        raise UsageError("--storage", f"cannot use {storage!r}: {exc}".splitlines()[0]) from None
+    attrs = settings.as_attrs()
+    stored = study.user_attrs.get("settings")
+    if stored is None:
+        study.set_user_attr("settings", attrs)
+        if all(
+            settings.space[k].low <= v <= settings.space[k].high for k, v in DEFAULT_PARAMS.items()
+        ):
+            study.enqueue_trial(DEFAULT_PARAMS, user_attrs={"default_gait": True})
+    elif stored != attrs:
+        changed = sorted(k for k in attrs if stored.get(k) != attrs[k])
+        raise UsageError(
+            "--study-name",
+            f"study {study_name!r} in {storage} was run with other settings ({', '.join(changed)}"
+            "); rerun with the same settings to resume, or name a new study",
+        )
+    return study, rdb
+
+
+def run_study(
+    settings: TuneSettings,
+    storage: str,
+    study_name: str,
+    n_trials: int,
+    n_jobs: int = 1,
+    seed: int | None = None,
+    progress: bool = True,
+) -> optuna.Study:
+    """Run the study until it holds ``n_trials`` finished trials, on ``n_jobs`` processes."""
+    study, _ = prepare_study(settings, storage, study_name)
+    with warnings.catch_warnings():  # experimental since Optuna 2.9, still there in 4.x
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        optuna.storages.fail_stale_trials(study)
+    done = _counted(study)
+    bar = tqdm(total=n_trials, initial=done, desc=study_name, unit="trial", disable=not progress)
+    seed_base = None if seed is None else seed + 1000 * done
+
+    def update(study: optuna.Study, trial: optuna.trial.FrozenTrial) -> None:
+        bar.update()
+        bar.set_postfix_str(_best_text(study))
+
+    try:
+        # Enqueued trials (the default gait) run here first: two processes popping the same
+        # waiting trial from SQLite can both run it, and the second fails to record it.
+        waiting = len(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.WAITING,)))
+        if waiting and done < n_trials:
+            run_worker(settings, storage, study_name, waiting, n_trials, seed_base, [update])
+        remaining = max(0, n_trials - _counted(study))
+        if remaining and n_jobs == 1:
+            run_worker(settings, storage, study_name, remaining, n_trials, seed_base, [update])
+        elif remaining:
+            context = multiprocessing.get_context("spawn")
+            quotas = [remaining // n_jobs + (i < remaining % n_jobs) for i in range(n_jobs)]
+            workers = [
+                context.Process(
+                    target=run_worker,
+                    args=(settings, storage, study_name, quota, n_trials),
+                    kwargs={"seed": None if seed_base is None else seed_base + 1 + i},
+                )
+                for i, quota in enumerate(quotas)
+                if quota
+            ]
+            for worker in workers:
+                worker.start()
+            while any(worker.is_alive() for worker in workers):
+                time.sleep(1.0)
+                finished = len(study.get_trials(deepcopy=False, states=FINISHED))
+                bar.update(max(0, finished - bar.n))
+                bar.set_postfix_str(_best_text(study))
+            failed = [w.exitcode for w in workers if w.exitcode]
+            if failed:
+                raise RuntimeError(f"tuning workers exited with status {failed}")
+    except KeyboardInterrupt:
+        print("\ninterrupted: rerun the same command to resume the study", file=sys.stderr)
+    finally:
+        bar.close()
+    return study
+
+
+def _best_text(study: optuna.Study) -> str:
+    try:
+        return f"best {study.best_value:.4g} (trial {study.best_trial.number})"
+    except ValueError:
+        return "no qualified trial yet"
+
+
+# --- outputs --------------------------------------------------------------------------------------
+
+
+def tuned_entry(study: optuna.Study, settings: TuneSettings) -> dict[str, Any]:
+    """The YAML entry for the study's best trial (see the module docstring for the format)."""
+    try:
+        best = study.best_trial
+    except ValueError:
+        raise RuntimeError(f"study {study.study_name!r} has no qualified trial yet") from None
+    finished = study.get_trials(deepcopy=False, states=FINISHED)
+    default = next((t for t in finished if t.user_attrs.get("default_gait")), None)
+    params = {k: best.params[k] for k in settings.space}
+    entry: dict[str, Any] = {
+        "env_id": ACL_CLIMB_ID,
+        "env_kwargs": settings.env_kwargs(params),
+        "objective": settings.objective,
+        "reward_weights": dict(settings.reward_weights),
+        "seeds": list(settings.seeds),
+        "steps_per_cycle": settings.steps_per_cycle,
+        "cycles_per_episode": settings.cycles_per_episode,
+        "trials": len(finished),
+        "best_trial": best.number,
+        "study": study.study_name,
+        "metrics": {m: best.user_attrs.get(m) for m in METRICS},
+    }
+    if default is not None:
+        metrics = {m: default.user_attrs.get(m) for m in METRICS}
+        entry["default_gait_metrics"] = metrics
+        if "disqualified" in default.user_attrs:
+            entry["default_gait_disqualified"] = default.user_attrs["disqualified"]
+    return entry
+
+
+def write_tuned_gaits(path: str | Path, key: str, entry: dict[str, Any]) -> None:
+    """Replace ``key`` in the YAML file (other entries kept), with the format's header comment."""
+    path = Path(path)
+    document = (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
+    document[key] = _plain(entry)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(HEADER + yaml.safe_dump(document, sort_keys=False))
+
+
+def read_tuned_gaits(path: str | Path = DEFAULT_OUTPUT) -> dict[str, dict[str, Any]]:
+    """The tuned gaits by key (the YAML document written by :func:`write_tuned_gaits`)."""
+    with open(path) as f:
+        return yaml.safe_load(f) or {}
+
+
+def _plain(value: Any) -> Any:
+    """YAML-safe plain values: numpy scalars as Python numbers, NaN as None."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def policy_point(path: str | Path, controller: str = "policy") -> tuple[float, float]:
+    """``(energy_per_m, climb_per_gait_cycle_m)`` means of one controller of an evaluation JSON."""
+    import json
+
+    summary = json.loads(Path(path).read_text())["controllers"][controller]
+    return summary["energy_per_m"]["mean"], summary["climb_per_gait_cycle_m"]["mean"]
+
+
+def pareto_front(points: np.ndarray) -> np.ndarray:
+    """Points ``(energy, climb)`` that no other point beats on both (less energy, more climb),
+    sorted by energy."""
+    order = np.argsort(points[:, 0], kind="stable")
+    front, best_climb = [], -np.inf
+    for i in order:
+        if points[i, 1] > best_climb:
+            front.append(i)
+            best_climb = points[i, 1]
+    return points[front]
+
+
+def plot_frontier(
+    study: optuna.Study,
+    settings: TuneSettings,
+    path: str | Path,
+    title: str,
+    policy: tuple[float, float] | None = None,
+) -> None:
+    """Climb per gait cycle against energy per metre of every trial: the open-loop frontier."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    trials = study.get_trials(deepcopy=False, states=FINISHED)
+
+    def point(t: optuna.trial.FrozenTrial) -> tuple[float, float]:
+        return t.user_attrs.get("energy_per_m", math.nan), t.user_attrs.get(
+            "climb_per_gait_cycle_m", math.nan
+        )
+
+    def finite(ts: list[optuna.trial.FrozenTrial]) -> np.ndarray:
+        pts = np.array([point(t) for t in ts], dtype=float).reshape(-1, 2)
+        return pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 0] > 0)]
+
+    complete = [t for t in trials if t.state == optuna.trial.TrialState.COMPLETE]
+    fell = [t for t in trials if t.user_attrs.get("disqualified") == "fell"]
+    fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+    ok = finite(complete)
+    values = [t.value for t in complete if np.all(np.isfinite(point(t))) and point(t)[0] > 0]
+    if len(ok):
+        sc = ax.scatter(ok[:, 0], ok[:, 1], c=values, s=14, cmap="viridis", zorder=2)
+        fig.colorbar(sc, ax=ax, label=settings.objective)
+        front = pareto_front(ok)
+        ax.step(front[:, 0], front[:, 1], where="post", color="0.3", lw=1, label="frontier")
+    down = finite(fell)
+    if len(down):
+        ax.scatter(down[:, 0], down[:, 1], marker="x", s=14, color="0.6", label="fell (seeds run)")
+    default = next((t for t in complete if t.user_attrs.get("default_gait")), None)
+    if default is not None:
+        ax.scatter(*point(default), marker="s", s=60, color="k", label="default gait", zorder=3)
+    if complete:
+        best = study.best_trial
+        ax.scatter(*point(best), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
+    if policy is not None:
+        ax.scatter(*policy, marker="^", s=90, color="tab:orange", label="policy", zorder=4)
+    ax.set_xscale("log")
+    ax.set_xlabel("energy per metre climbed (J/m)")
+    ax.set_ylabel("climb per gait cycle (m)")
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="best")
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+# --- command line ---------------------------------------------------------------------------------
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit status 2, as argparse's own)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
+    """Command line (paths relative to the repository root, where it is meant to run)."""
+    parser = _Parser(
+        prog="acl-tune-gait",
+        description="Tune the open-loop ACL gait with Optuna (parallel, resumable).",
+    )
+    parser.add_argument("--no-roll", action="store_true", help="rolls_per_cycle=0 (key acl_noroll)")
+    parser.add_argument("--objective", default="reward_per_gait_cycle", help=str(list(OBJECTIVES)))
+    parser.add_argument(
+        "--reward-weights",
+        nargs="*",
+        default=None,
+        metavar="TERM:WEIGHT",
+        help="env reward weights (default: the training config's)",
+    )
+    parser.add_argument("--config", default=str(DEFAULT_CONFIG), help="training config (zoo YAML)")
+    parser.add_argument("--n-trials", type=int, default=300, help="the study's total trials")
+    parser.add_argument("--n-jobs", type=int, default=1, help="worker processes")
+    parser.add_argument(
+        "--storage", default=str(DEFAULT_STORAGE), help="SQLite file or Optuna storage URL"
+    )
+    parser.add_argument("--study-name", default=None, help="default: the key")
+    parser.add_argument("--key", default=None, help="entry in --output (acl / acl_noroll)")
+    parser.add_argument("--seeds", type=int, nargs="+", default=list(DEFAULT_SEEDS))
+    parser.add_argument("--steps-per-cycle", type=int, default=220)
+    parser.add_argument("--cycles", type=int, default=2, help="gait cycles per episode")
+    parser.add_argument(
+        "--max-clipped",
+        type=float,
+        default=0.1,
+        help="largest share of the keyframe table's joint angles the +-90 deg limit may clip",
+    )
+    parser.add_argument(
+        "--space", nargs="*", default=[], metavar="NAME:LOW:HIGH", help="search range overrides"
+    )
+    parser.add_argument("--output", default=str(DEFAULT_OUTPUT), help="tuned gaits YAML")
+    parser.add_argument("--plot", default=DEFAULT_PLOT, help="frontier figure ('' for none)")
+    parser.add_argument(
+        "--policy-point",
+        metavar="EVAL_JSON[:CONTROLLER]",
+        help="mark a controller of an evaluation JSON on the figure (default controller: policy)",
+    )
+    parser.add_argument("--sampler-seed", type=int, default=None)
+    parser.add_argument("--no-progress-bar", action="store_true")
+    return parser.parse_args(argv)
+
+
+def settings_from_args(args: argparse.Namespace) -> TuneSettings:
+    """Validated settings; bad input raises :class:`UsageError` naming the argument."""
+    if args.objective not in OBJECTIVES:
+        raise UsageError("--objective", f"unknown {args.objective!r}; known: {list(OBJECTIVES)}")
+    if args.n_trials <= 0:
+        raise UsageError("--n-trials", f"must be positive, got {args.n_trials}")
+    if args.n_jobs <= 0:
+        raise UsageError("--n-jobs", f"must be positive, got {args.n_jobs}")
+    if args.steps_per_cycle < 2:
+        raise UsageError("--steps-per-cycle", f"must be >= 2, got {args.steps_per_cycle}")
+    if args.cycles < 1:
+        raise UsageError("--cycles", f"must be >= 1, got {args.cycles}")
+    if not 0.0 <= args.max_clipped <= 1.0:
+        raise UsageError("--max-clipped", f"must be in [0, 1], got {args.max_clipped}")
+    if len(set(args.seeds)) != len(args.seeds):
+        raise UsageError("--seeds", f"repeated seeds {args.seeds}")
+    if args.reward_weights is None:
+        try:
+            hyperparams = load_hyperparams(args.config, ACL_CLIMB_ID)
+        except (OSError, KeyError, yaml.YAMLError) as exc:
+            raise UsageError("--config", str(exc).splitlines()[0]) from None
+        weights = dict((hyperparams.get("env_kwargs") or {}).get("reward_weights") or {})
+    else:
+        try:
+            weights = parse_kv_pairs(args.reward_weights)
+        except ValueError as exc:
+            raise UsageError("--reward-weights", str(exc)) from None
+    try:  # the env checks the weights' names and values, and fills in the missing ones
+        env = gymnasium.make(
+            ACL_CLIMB_ID, steps_per_cycle=args.steps_per_cycle, reward_weights=weights
+        )
+        weights = dict(env.unwrapped.reward_weights)
+        env.close()
+    except (ValueError, TypeError) as exc:
+        raise UsageError("--reward-weights", str(exc)) from None
+    settings = TuneSettings(
+        objective=args.objective,
+        reward_weights=weights,
+        rolls_per_cycle=0 if args.no_roll else 1,
+        seeds=tuple(args.seeds),
+        steps_per_cycle=args.steps_per_cycle,
+        cycles_per_episode=args.cycles,
+        max_clipped=args.max_clipped,
+        space=parse_space(args.space),
+    )
+    return settings
+
+
+def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
+    """Tune, then write the best gait to ``--output`` and the frontier figure; return the entry."""
+    args = parse_args(argv)
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    key = args.key or ("acl_noroll" if args.no_roll else "acl")
+    study_name = args.study_name or key
+    try:
+        settings = settings_from_args(args)
+        policy = None
+        if args.policy_point:
+            path, _, controller = args.policy_point.partition(":")
+            try:
+                policy = policy_point(path, controller or "policy")
+            except (OSError, KeyError, ValueError) as exc:
+                msg = f"cannot read {args.policy_point}: {exc!r}"
+                raise UsageError("--policy-point", msg) from None
+        prepare_study(settings, args.storage, study_name)  # bad storage fails before any trial
+    except UsageError as exc:
+        print(f"acl-tune-gait: error: {exc}", file=sys.stderr)
+        raise SystemExit(2) from None
+    study = run_study(
+        settings,
+        args.storage,
+        study_name,
+        args.n_trials,
+        args.n_jobs,
+        args.sampler_seed,
+        progress=not args.no_progress_bar,
+    )
+    try:
+        entry = tuned_entry(study, settings)
+    except RuntimeError as exc:
+        print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
+        raise SystemExit(1) from None
+    write_tuned_gaits(args.output, key, entry)
+    print(yaml.safe_dump({key: _plain(entry)}, sort_keys=False), end="")
+    if args.plot:
+        plot = args.plot.format(key=key)
+        weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
+        title = (
+            f"{key}: {entry['trials']} open-loop gaits, {settings.objective} "
+            f"(weights {weights or 'env default'}), {len(settings.seeds)} seeds"
+        )
+        plot_frontier(study, settings, plot, title, policy)
+        print(f"frontier figure: {plot}")
+    return entry
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,212 @@
+"""The open-loop tuner (acl_env.training.tuning, train/tune_gait.py): shared studies, resuming,
+disqualification, the tuned-gaits file, and one-line errors for bad input."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import gymnasium
+import numpy as np
+import optuna
+import pytest
+import yaml
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.training import tuning
+
+ROOT = Path(__file__).resolve().parents[1]
+# 20-step cycles, one cycle per episode: a trial takes a fraction of a second.
+TINY = ["--steps-per-cycle", "20", "--cycles", "1", "--no-progress-bar"]
+
+
+def tiny_args(tmp_path: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> list[str]:
+    return [
+        *TINY,
+        "--seeds",
+        *seeds,
+        "--storage",
+        str(tmp_path / "study.db"),
+        "--output",
+        str(tmp_path / "tuned.yml"),
+        "--plot",
+        str(tmp_path / "frontier_{key}.png"),
+        "--sampler-seed",
+        "0",
+        *extra,
+    ]
+
+
+def load(tmp_path: Path, name: str = "acl") -> optuna.Study:
+    return optuna.load_study(study_name=name, storage=f"sqlite:///{tmp_path / 'study.db'}")
+
+
+def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) -> None:
+    entry = tuning.main(tiny_args(tmp_path, "--n-trials", "8", "--n-jobs", "2"))
+    study = load(tmp_path)
+    finished = study.get_trials(states=tuning.FINISHED)
+    assert len(finished) == 8
+    # Trial 0, the untuned gait, runs in this process; both worker processes ran the others.
+    assert finished[0].user_attrs["default_gait"]
+    assert finished[0].params == tuning.DEFAULT_PARAMS
+    assert finished[0].user_attrs["worker"].endswith(f":{os.getpid()}")
+    workers = {t.user_attrs["worker"] for t in finished[1:]}
+    assert len(workers) == 2 and finished[0].user_attrs["worker"] not in workers
+
+    document = yaml.safe_load((tmp_path / "tuned.yml").read_text())
+    assert (tmp_path / "tuned.yml").read_text().startswith(tuning.HEADER)
+    saved = document["acl"]
+    assert saved == tuning._plain(entry)
+    assert saved["env_id"] == ACL_CLIMB_ID
+    assert saved["trials"] == 8
+    assert saved["best_trial"] == study.best_trial.number
+    assert saved["reward_weights"] == {"climb": 1.0, "slip": 2.0}  # train/configs/ppo.yml
+    assert saved["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 1
+    assert set(saved["env_kwargs"]["gait_kwargs"]) == {*tuning.SEARCH_SPACE, "rolls_per_cycle"} - {
+        "squeeze"
+    }
+    assert saved["metrics"]["reward_per_gait_cycle"] == pytest.approx(study.best_value)
+    assert saved["metrics"]["reward_per_gait_cycle"] >= max(
+        t.value for t in finished if t.value is not None
+    )
+    assert (tmp_path / "frontier_acl.png").stat().st_size > 10_000
+
+    # The entry's env kwargs replay the best trial: same seed, same metrics.
+    env = gymnasium.make(
+        ACL_CLIMB_ID,
+        steps_per_cycle=20,
+        cycles_per_episode=1,
+        reward_weights=saved["reward_weights"],
+        **saved["env_kwargs"],
+    )
+    replay = tuning.rollout_metrics(env, 0)
+    env.close()
+    for metric, value in saved["metrics"].items():
+        assert replay[metric] == pytest.approx(value, rel=1e-9)
+
+
+def test_rerun_resumes_the_study_and_other_settings_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    tuning.main(tiny_args(tmp_path, "--n-trials", "3"))
+    tuning.main(tiny_args(tmp_path, "--n-trials", "5"))  # two more, not five
+    assert len(load(tmp_path).get_trials(states=tuning.FINISHED)) == 5
+    tuning.main(tiny_args(tmp_path, "--n-trials", "5"))  # nothing left to run
+    assert len(load(tmp_path).trials) == 5
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(tiny_args(tmp_path, "--n-trials", "6", "--reward-weights", "climb:1"))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert "--study-name" in err and "reward_weights" in err
+    assert len(load(tmp_path).trials) == 5
+
+
+def test_a_gait_that_falls_is_disqualified(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # A helix 3 cm looser than the pole's contact radius never grips.
+    args = tiny_args(tmp_path, "--n-trials", "2", "--no-roll", "--space", "squeeze:-0.03:-0.03")
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(args)
+    assert exc.value.code == 1
+    assert "no qualified trial" in capsys.readouterr().err
+    trials = load(tmp_path, "acl_noroll").trials
+    assert len(trials) == 2
+    for trial in trials:
+        assert trial.state == optuna.trial.TrialState.PRUNED
+        assert trial.user_attrs["disqualified"] == "fell"
+        assert trial.user_attrs["falls"] == 1.0
+        assert trial.params["squeeze"] == -0.03
+    assert not (tmp_path / "tuned.yml").exists()
+
+
+def test_a_saturated_gait_is_disqualified_without_a_rollout(tmp_path: Path) -> None:
+    space = ["amp_pitch:0.05:0.05", "spatial_freq:3:3", "amp_radial:0.025:0.025"]
+    with pytest.raises(SystemExit):
+        tuning.main(tiny_args(tmp_path, "--n-trials", "1", "--space", *space))
+    (trial,) = load(tmp_path).trials
+    assert trial.user_attrs["disqualified"] == "saturated"
+    assert trial.user_attrs["clipped_fraction"] > 0.1
+    assert "seeds_run" not in trial.user_attrs
+
+
+@pytest.mark.parametrize(
+    ("extra", "argument"),
+    [
+        (["--objective", "speed"], "--objective"),
+        (["--n-trials", "0"], "--n-trials"),
+        (["--n-jobs", "0"], "--n-jobs"),
+        (["--space", "amp_radial:0:0.2"], "--space"),  # above the helix radius
+        (["--space", "pitch:0.03:0.1"], "--space"),  # turns closer than a module diameter
+        (["--space", "spatial_freq:1.5:3"], "--space"),  # not a whole number of waves per turn
+        (["--space", "amp_pitch:-0.01:0.02"], "--space"),
+        (["--space", "stiffness:1:2"], "--space"),
+        (["--reward-weights", "height:1"], "--reward-weights"),
+        (["--config", "no/such/config.yml"], "--config"),
+        (["--max-clipped", "2"], "--max-clipped"),
+    ],
+)
+def test_bad_input_is_one_line_naming_the_argument(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], argument: str
+) -> None:
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(tiny_args(tmp_path, *extra))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert err.count("\n") == 1 and argument in err, err
+    assert not (tmp_path / "study.db").exists()  # failed before any trial, before any study
+
+
+@pytest.mark.parametrize("kind", ["not a database", "folder", "bad url"])
+def test_unreadable_storage_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], kind: str
+) -> None:
+    storage = tmp_path / "study.db"
+    if kind == "not a database":
+        storage.write_bytes(b"\x00garbage" * 200)
+    elif kind == "folder":
+        storage.mkdir()
+    args = tiny_args(tmp_path)
+    args[args.index("--storage") + 1] = "nosuchdriver://x/y" if kind == "bad url" else str(storage)
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(args)
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert err.count("\n") == 1 and "--storage" in err, err
+    assert not (tmp_path / "tuned.yml").exists()
+
+
+def test_command_line_error_from_the_script(tmp_path: Path) -> None:
+    proc = subprocess.run(
+        [sys.executable, "train/tune_gait.py", *tiny_args(tmp_path, "--objective", "speed")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.splitlines() == [
+        "acl-tune-gait: error: argument --objective: unknown 'speed'; known: "
+        f"{list(tuning.OBJECTIVES)}"
+    ]
+
+
+def test_pareto_front_keeps_the_undominated_points() -> None:
+    points = np.array([[500.0, 0.18], [400.0, 0.15], [700.0, 0.22], [600.0, 0.17], [900, 0.21]])
+    front = tuning.pareto_front(points)
+    assert front.tolist() == [[400.0, 0.15], [500.0, 0.18], [700.0, 0.22]]
+
+
+def test_env_kwargs_split_squeeze_from_the_gait() -> None:
+    settings = tuning.TuneSettings(rolls_per_cycle=0)
+    kwargs = settings.env_kwargs(tuning.DEFAULT_PARAMS)
+    assert kwargs["squeeze"] == tuning.DEFAULT_PARAMS["squeeze"]
+    assert kwargs["gait_kwargs"]["rolls_per_cycle"] == 0
+    assert "squeeze" not in kwargs["gait_kwargs"]
+    env = gymnasium.make(ACL_CLIMB_ID, **kwargs)  # the env accepts them as they are
+    assert math.isclose(env.unwrapped.gait.curve.amp_pitch, tuning.DEFAULT_PARAMS["amp_pitch"])
+    env.close()

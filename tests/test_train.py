@@ -9,25 +9,18 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Any
 
-import gymnasium
-import numpy as np
 import pytest
 import yaml
 
-import acl_env  # noqa: F401
-from acl_env import evaluation
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, evaluation
 from acl_env.training import config
 
 ROOT = Path(__file__).resolve().parents[1]
 TRAIN = ROOT / "train"
-sys.path.insert(0, str(TRAIN))
 
-import evaluate  # noqa: E402
-
-ACL_ID = "acl_env/ACLClimb-v0"
-HELIX_ID = "acl_env/RollingHelixClimb-v0"
+ACL_ID = ACL_CLIMB_ID
+HELIX_ID = ROLLING_HELIX_CLIMB_ID
 
 SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}  # 20-step episodes
 SHORT_ARGS = [f"{k}:{v}" for k, v in SHORT.items()]
@@ -79,23 +72,6 @@ def trained_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return run_dir
 
 
-def zero_action_metrics(env_id: str, env_kwargs: dict[str, Any], seeds: list[int]) -> dict:
-    """Per-episode climb and slip per cycle of the open-loop gait, straight from the env."""
-    env = gymnasium.make(env_id, **env_kwargs)
-    climbs, slips = [], []
-    for seed in seeds:
-        env.reset(seed=seed)
-        steps, climb, slip, done = 0, 0.0, 0.0, False
-        while not done:
-            _, _, terminated, truncated, info = env.step(np.zeros(env.action_space.shape))
-            steps, climb, slip = steps + 1, climb + info["climb"], slip + info["slip"]
-            done = terminated or truncated
-        cycles = steps / env.unwrapped.steps_per_cycle
-        climbs.append(climb / cycles)
-        slips.append(slip / cycles)
-    return {"climb_per_cycle_m": climbs, "slip_per_cycle_m": slips}
-
-
 # ---- fast tests ------------------------------------------------------------------------------
 
 
@@ -133,29 +109,6 @@ def test_config_strings_are_parsed_without_eval() -> None:
     }
 
 
-def test_confidence_interval_uses_student_t() -> None:
-    """t quantiles match tables; the CI of [1, 2, 3] is 2 +- 4.303 * 1 / sqrt(3)."""
-    for dof, table in [(1, 12.7062), (4, 2.7764), (19, 2.0930)]:
-        assert evaluation.student_t_quantile(0.975, dof) == pytest.approx(table, abs=1e-4)
-    ci = evaluation.mean_ci95([1.0, 2.0, 3.0, math.nan])
-    assert ci["n"] == 3
-    assert ci["half_width"] == pytest.approx(4.3027 / math.sqrt(3), abs=1e-4)
-
-
-def test_open_loop_numbers_equal_a_zero_action_rollout(tmp_path: Path) -> None:
-    """evaluate.py's open-loop rows are exactly the env's zero-action rollouts on the same seeds."""
-    out = tmp_path / "eval.json"
-    argv = ["--no-policy", "--episodes", "2", "--seed", "3", "--json", str(out)]
-    evaluate.main([*argv, "--env-kwargs", *SHORT_ARGS, "--no-progress-bar", "--workers", "1"])
-    controllers = json.loads(out.read_text())["controllers"]
-    assert set(controllers) == {"open_loop_acl", "open_loop_rolling_helix"}
-    for name, env_id in [("open_loop_acl", ACL_ID), ("open_loop_rolling_helix", HELIX_ID)]:
-        direct = zero_action_metrics(env_id, SHORT, [3, 4])
-        for metric, values in direct.items():
-            assert controllers[name][metric]["values"] == pytest.approx(values, abs=1e-9)
-            assert controllers[name][metric]["mean"] == pytest.approx(np.mean(values), abs=1e-9)
-
-
 # ---- slow tests: real training runs ----------------------------------------------------------
 
 
@@ -178,7 +131,7 @@ def test_training_writes_a_run_folder(trained_run: Path) -> None:
 
 @pytest.mark.slow
 def test_evaluate_loads_the_run(trained_run: Path, tmp_path: Path) -> None:
-    """The policy row exists with every metric; the plot is written."""
+    """A trained run evaluates through the command line: every controller has every metric."""
     out, plot = tmp_path / "eval.json", tmp_path / "eval.png"
     run_script(
         str(TRAIN / "evaluate.py"),
@@ -186,11 +139,13 @@ def test_evaluate_loads_the_run(trained_run: Path, tmp_path: Path) -> None:
         *["--plot", str(plot), "--no-progress-bar", "--env-kwargs", *SHORT_ARGS],
     )
     document = json.loads(out.read_text())
-    assert set(document["controllers"]) == {"policy", "open_loop_acl", "open_loop_rolling_helix"}
+    assert {"policy", "open_loop_acl", "open_loop_rolling_helix"} <= set(document["controllers"])
     for summary in document["controllers"].values():
-        for metric in evaluate.METRICS:
+        for metric in evaluation.METRICS:
             assert {"mean", "ci95"} <= set(summary[metric])
+            assert len(summary[metric]["values"]) == 2
         assert summary["episodes"] == 2
+    assert math.isfinite(document["controllers"]["policy"]["climb_per_gait_cycle_m"]["mean"])
     assert "domain_randomization" not in document["env_kwargs"]["policy"]
     assert plot.stat().st_size > 0
 

@@ -19,6 +19,7 @@ import gymnasium
 import yaml
 
 import acl_env  # noqa: F401  (registers the acl_env/* ids)
+from acl_env.training.cli import parse_value
 
 # Config keys consumed here rather than passed to the SB3 algorithm.
 NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs")
@@ -72,19 +73,14 @@ def parse_python_literal(text: str) -> Any:
 
 
 def parse_kv_pairs(items: Iterable[str] | None) -> dict[str, Any]:
-    """Parse zoo-style ``key:value`` arguments; values go through ``ast.literal_eval``.
-
-    A value that is not a Python literal is kept as a string (``base_gait:acl``).
-    """
+    """Parse zoo-style ``key:value`` arguments (values by :func:`cli.parse_value`): a Python
+    literal, ``true``/``false``/``none``/``null`` in any case, or else the string (``acl``)."""
     result: dict[str, Any] = {}
     for item in items or ():
         key, sep, raw = item.partition(":")
         if not sep or not key:
             raise ValueError(f"expected key:value, got {item!r}")
-        try:
-            result[key] = ast.literal_eval(raw)
-        except (ValueError, SyntaxError):
-            result[key] = raw
+        result[key] = parse_value(raw)
     return result
 
 
@@ -161,13 +157,3 @@ def make_worker_env(env_id: str, **env_kwargs: Any) -> gymnasium.Env:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     return make_env(env_id, env_kwargs)
-
-
-def steps_per_cycle(env: gymnasium.Env) -> int:
-    """Env steps per nominal gait cycle (the env's ``steps_per_cycle``)."""
-    value = getattr(env.unwrapped, "steps_per_cycle", None)
-    if value is None and env.spec is not None:
-        value = env.spec.kwargs.get("steps_per_cycle")
-    if value is None:
-        raise AttributeError(f"{env.spec.id if env.spec else env} does not expose steps_per_cycle")
-    return int(value)

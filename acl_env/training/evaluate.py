@@ -1,0 +1,433 @@
+"""Judge a trained policy against the open-loop gaits on the same seeds (``train/evaluate.py``).
+
+Controllers (episode ``i`` of every one resets with seed ``seed + i``):
+
+* ``policy``: the policy folder's newest model, deterministic, VecNormalize statistics frozen;
+* ``open_loop_acl``: the default ACL gait, zero action (on the policy's env when its base gait is
+  ACL, so a non-rolling task is judged against its own open loop);
+* ``open_loop_acl_same_cadence``: only when the policy sets the cadence (``phase_rate_range``):
+  the same open loop played at the policy's mean phase rate, so what the policy adds beyond
+  running the gait faster shows;
+* ``open_loop_rolling_helix``: the rolling helix, zero action;
+* ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
+  (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
+  a non-rolling policy; skipped with a note when the file has no such entry.
+
+All run at the env's default conditions plus the policy's non-training env kwargs plus
+``--env-kwargs``; domain randomisation is training-only. Every controller's env computes its
+reward with the same ``reward_weights`` (``--reward-weights``, default the policy's training
+weights), so ``reward_per_gait_cycle`` compares like with like. The metrics are those of
+:mod:`acl_env.evaluation`, reported as mean and Student-t 95 % interval over the episodes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import os
+from collections.abc import Sequence
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+# --video renders offscreen; MuJoCo picks its GL backend when first imported, so say it now.
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import gymnasium
+import numpy as np
+import yaml
+from tqdm import tqdm
+
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, check_reward_weights
+from acl_env.evaluation import (
+    CI_NOTE,
+    Episode,
+    Policy,
+    constant_cadence_policy,
+    format_table,
+    jsonable,
+    mean_ci95,
+    run_episode,
+    summarize,
+    zero_policy,
+)
+from acl_env.training import cli
+from acl_env.training.checks import check_env_kwargs
+from acl_env.training.policy import (
+    PolicyFolder,
+    SpaceMismatchError,
+    load_policy,
+    read_policy_folder,
+)
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+DEFAULT_POLICY = REPO_ROOT / "train" / "policies" / "acl_climb_ppo"
+DEFAULT_TUNED_GAITS = REPO_ROOT / "train" / "configs" / "tuned_gaits.yml"
+# Training-only env kwargs that evaluation drops from the policy's config.
+TRAINING_ONLY_KWARGS = ("domain_randomization",)
+# Kwargs tied to one base gait: not passed to another gait's env.
+GAIT_KWARGS = ("gait_kwargs", "base_gait")
+SAME_CADENCE = "open_loop_acl_same_cadence"
+
+
+@dataclass(frozen=True)
+class Controller:
+    """An env and what acts in it: a policy folder, or the open loop (at a constant cadence)."""
+
+    name: str
+    env_id: str
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    policy_dir: str | None = None
+    phase_rate: float | None = None  # open loop at this many keyframes per step
+
+    def make_env(self, **extra: Any) -> gymnasium.Env:
+        return gymnasium.make(self.env_id, **{**self.env_kwargs, **extra})
+
+    def make_policy(self, env: gymnasium.Env) -> Policy:
+        if self.policy_dir is not None:
+            return load_policy(self.policy_dir, env)
+        if self.phase_rate is not None:
+            return constant_cadence_policy(env, self.phase_rate)
+        return zero_policy(env)
+
+
+# --- running episodes ----------------------------------------------------------------------------
+
+_WORKER_CACHE: dict[str, tuple[gymnasium.Env, Policy]] = {}
+
+
+def _env_and_policy(controller: Controller) -> tuple[gymnasium.Env, Policy]:
+    """One env and policy per controller and process, reused across its episodes."""
+    key = repr(controller)
+    if key not in _WORKER_CACHE:
+        env = controller.make_env()
+        _WORKER_CACHE[key] = (env, controller.make_policy(env))
+    return _WORKER_CACHE[key]
+
+
+def _run_task(controller: Controller, seed: int, gym_packages: Sequence[str]) -> Episode:
+    """Worker task: one episode of one controller."""
+    for name in gym_packages:
+        cli.importable_module(name)
+    env, policy = _env_and_policy(controller)
+    return run_episode(env, policy, seed)
+
+
+def run_controllers(
+    controllers: Sequence[Controller],
+    seeds: Sequence[int],
+    pool: Executor | None,
+    gym_packages: Sequence[str] = (),
+    progress: bool = True,
+) -> dict[str, list[Episode]]:
+    """Every controller on every seed, in ``pool`` (or in this process when None)."""
+    tasks = [(c, s) for c in controllers for s in seeds]
+    results: dict[tuple[str, int], Episode] = {}
+    with tqdm(total=len(tasks), desc="episodes", unit="ep", disable=not progress) as bar:
+        if pool is None:
+            for controller, seed in tasks:
+                results[controller.name, seed] = _run_task(controller, seed, gym_packages)
+                bar.update()
+        else:
+            futures = {
+                pool.submit(_run_task, c, s, tuple(gym_packages)): (c.name, s) for c, s in tasks
+            }
+            for future in as_completed(futures):
+                results[futures[future]] = future.result()
+                bar.update()
+    return {c.name: [results[c.name, s] for s in seeds] for c in controllers}
+
+
+def evaluate(
+    controllers: Sequence[Controller],
+    seeds: Sequence[int],
+    workers: int = 2,
+    gym_packages: Sequence[str] = (),
+    progress: bool = True,
+) -> dict[str, list[Episode]]:
+    """Run the controllers; the same-cadence open loop runs last, at the policy's mean rate."""
+    first = [c for c in controllers if c.name != SAME_CADENCE]
+    later = [c for c in controllers if c.name == SAME_CADENCE]
+    pool = None
+    if workers > 1:
+        # spawn: the parent has loaded torch, which a forked child can deadlock on.
+        context = multiprocessing.get_context("spawn")
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    try:
+        results = run_controllers(first, seeds, pool, gym_packages, progress)
+        if later:
+            policy = results["policy"]
+            rate = sum(e.keyframes for e in policy) / sum(e.steps for e in policy)
+            later = [replace(c, phase_rate=float(rate)) for c in later]
+            results |= run_controllers(later, seeds, pool, gym_packages, progress)
+    finally:
+        if pool is not None:
+            pool.shutdown()
+    order = [c.name for c in controllers]
+    return {name: results[name] for name in order}
+
+
+# --- which controllers ---------------------------------------------------------------------------
+
+
+def env_setting(env_id: str, env_kwargs: dict[str, Any], key: str, default: Any = None) -> Any:
+    """An env argument as the env will see it: the call's kwargs over the registration's."""
+    return {**(gymnasium.spec(env_id).kwargs or {}), **env_kwargs}.get(key, default)
+
+
+def is_non_rolling(env_id: str, env_kwargs: dict[str, Any]) -> bool:
+    """Does this env's base gait have ``rolls_per_cycle`` 0?"""
+    gait_kwargs = env_setting(env_id, env_kwargs, "gait_kwargs") or {}
+    return gait_kwargs.get("rolls_per_cycle", 1) == 0
+
+
+TUNED_KEYS = {False: "acl", True: "acl_noroll"}  # tuned_gaits.yml entry per non-rolling flag
+
+
+def tuned_gait(
+    path: Path, reward_weights: dict[str, float] | None, non_rolling: bool
+) -> tuple[tuple[str, dict[str, Any]] | None, str]:
+    """``(env_id, env_kwargs)`` of the tuned open-loop gait (``train/configs/tuned_gaits.yml``,
+    written by ``train/tune_gait.py``; entry ``acl`` or ``acl_noroll``), and a note that says
+    which, or why there is none (``None``)."""
+    key = TUNED_KEYS[non_rolling]
+    if not path.is_file():
+        return None, f"{path} does not exist (run train/tune_gait.py)"
+    entry = (yaml.safe_load(path.read_text()) or {}).get(key)
+    if entry is None:
+        flag = " --no-roll" if non_rolling else ""
+        return None, f"{path} has no {key!r} entry (run train/tune_gait.py{flag})"
+    env_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
+    if env_id not in gymnasium.registry:
+        return None, f"{path}: {key!r} was tuned on {env_id}, not registered: re-run the tuner"
+    weights = {**DEFAULT_REWARD_WEIGHTS, **(reward_weights or {})}
+    tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
+    note = f"{path}: {key!r}, best of {entry.get('trials', '?')} trials for {entry['objective']}"
+    if {k: float(v) for k, v in tuned_for.items()} != {k: float(v) for k, v in weights.items()}:
+        note += f" under reward_weights {tuned_for}, NOT the {weights} evaluated here"
+    return (env_id, env_kwargs), note
+
+
+def build_controllers(
+    folder: PolicyFolder | None,
+    overrides: dict[str, Any],
+    reward_weights: dict[str, float] | None,
+    tuned_path: Path,
+) -> tuple[list[Controller], list[str]]:
+    """The controllers to compare, all under the same conditions, and notes on any skipped."""
+    base: dict[str, Any] = {}
+    acl_id = ACL_CLIMB_ID
+    if folder is not None:
+        base = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
+        if reward_weights is None:
+            reward_weights = base.get("reward_weights")
+    base = {**base, **overrides}
+    base.pop("reward_weights", None)
+    if reward_weights is not None:
+        base["reward_weights"] = dict(reward_weights)
+    other_gait = {k: v for k, v in base.items() if k not in GAIT_KWARGS}
+    controllers, notes = [], []
+    acl_kwargs = other_gait
+    if folder is not None:
+        controllers.append(Controller("policy", folder.env_id, base, str(folder.path)))
+        if env_setting(folder.env_id, base, "base_gait", "acl") == "acl":
+            acl_id, acl_kwargs = folder.env_id, base
+    controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
+    if folder is not None:
+        if env_setting(acl_id, acl_kwargs, "phase_rate_range") is not None:
+            controllers.append(Controller(SAME_CADENCE, acl_id, acl_kwargs, phase_rate=1.0))
+        else:
+            notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
+    controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
+    non_rolling = is_non_rolling(acl_id, acl_kwargs)
+    tuned, note = tuned_gait(tuned_path, base.get("reward_weights"), non_rolling)
+    if tuned is None:
+        notes.append(f"open_loop_tuned: skipped, {note}")
+    else:
+        tuned_id, tuned_kwargs = tuned
+        kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
+        controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
+        notes.append(f"open_loop_tuned: {note}")
+    return controllers, notes
+
+
+# --- outputs -------------------------------------------------------------------------------------
+
+
+def plot_heights(results: dict[str, list[Episode]], path: str | Path) -> None:
+    """Centre-of-mass rise above its start against time: mean and 95 % CI band per controller."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+    for name, episodes in results.items():
+        length = max(len(e.com_height) for e in episodes)
+        rise = np.full((len(episodes), length), np.nan)
+        for row, e in zip(rise, episodes, strict=True):
+            row[: len(e.com_height)] = e.com_height - e.com_height[0]
+        stats = [mean_ci95(column) for column in rise.T]
+        mean = np.array([s["mean"] for s in stats])
+        half = np.nan_to_num(np.array([s["half_width"] for s in stats]))
+        t = np.arange(length) * episodes[0].dt
+        ax.plot(t, mean, label=name)
+        ax.fill_between(t, mean - half, mean + half, alpha=0.25)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("COM height above start (m)")
+    ax.set_title(f"mean ± 95 % CI over {len(next(iter(results.values())))} episodes")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def record_video(controller: Controller, seed: int, path: str | Path) -> None:
+    """One episode of ``controller`` rendered offscreen (``rgb_array``) to a video file."""
+    import imageio
+
+    env = controller.make_env(render_mode="rgb_array")
+    frames: list[np.ndarray] = []
+    run_episode(env, controller.make_policy(env), seed, lambda env, *_: frames.append(env.render()))
+    env.close()
+    imageio.mimsave(path, frames, fps=max(1, round(1.0 / env.unwrapped.dt)))
+
+
+# --- command line --------------------------------------------------------------------------------
+
+
+def make_parser() -> cli.ArgumentParser:
+    """The command line of ``train/evaluate.py`` (``acl-evaluate``)."""
+    parser = cli.ArgumentParser(
+        prog="evaluate.py",
+        description="Evaluate a trained policy against the open-loop gaits, on the same seeds.",
+    )
+    which = parser.add_mutually_exclusive_group()
+    which.add_argument(
+        "--policy", type=cli.existing_dir, default=DEFAULT_POLICY, help="run or policy folder"
+    )
+    which.add_argument("--no-policy", action="store_true", help="open-loop controllers only")
+    parser.add_argument("--episodes", type=cli.int_at_least(1), default=20)
+    parser.add_argument(
+        "--seed", type=cli.int_at_least(0), default=0, help="episode i resets with seed + i"
+    )
+    parser.add_argument(
+        "--env-kwargs", type=cli.key_value, nargs="*", default=[], metavar="KEY:VALUE"
+    )
+    parser.add_argument(
+        "--reward-weights",
+        type=cli.key_value,
+        nargs="*",
+        metavar="TERM:WEIGHT",
+        help="reward weights of every controller's env (default: the policy's training ones)",
+    )
+    parser.add_argument(
+        "--tuned-gaits",
+        type=Path,
+        default=DEFAULT_TUNED_GAITS,
+        help="tuned open-loop gaits (written by train/tune_gait.py)",
+    )
+    parser.add_argument("--json", type=cli.output_file(), help="write the summaries here")
+    parser.add_argument(
+        "--plot",
+        type=cli.output_file(".png", ".pdf", ".svg"),
+        help="COM height against time (png, pdf or svg)",
+    )
+    parser.add_argument(
+        "--video",
+        type=cli.output_file(".mp4", ".gif"),
+        help="mp4 or gif of the first episode of the policy (of open-loop ACL with --no-policy)",
+    )
+    parser.add_argument(
+        "--workers", type=cli.int_at_least(1), default=2, help="processes running episodes"
+    )
+    parser.add_argument(
+        "--gym-packages",
+        type=cli.importable_module,
+        nargs="*",
+        default=[],
+        help="modules registering envs",
+    )
+    parser.add_argument("--no-progress-bar", action="store_true")
+    return parser
+
+
+def _checked_controllers(
+    parser: cli.ArgumentParser, args: argparse.Namespace
+) -> tuple[list[Controller], list[str]]:
+    """Controllers built and each env and policy made once, so that every bad argument is refused
+    (one line, exit status 2) before any episode runs."""
+    try:
+        overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+        weights = None
+        if args.reward_weights is not None:
+            weights = cli.pairs_to_dict("--reward-weights", args.reward_weights)
+    except argparse.ArgumentTypeError as error:
+        parser.error(str(error))
+    folder = None
+    if not args.no_policy:
+        try:
+            folder = read_policy_folder(args.policy)
+        except ValueError as error:
+            parser.error(f"argument --policy: {error}")
+    try:
+        controllers, notes = build_controllers(folder, overrides, weights, args.tuned_gaits)
+    except (yaml.YAMLError, KeyError, TypeError, AttributeError) as error:
+        parser.error(
+            f"argument --tuned-gaits: {args.tuned_gaits} is not a tuned-gaits file ({error})"
+        )
+    if weights is not None:
+        try:
+            check_reward_weights(weights)
+        except (ValueError, TypeError) as error:
+            parser.error(f"argument --reward-weights: {error}")
+    for controller in controllers:
+        try:
+            env = check_env_kwargs(controller.env_id, controller.env_kwargs)
+        except ValueError as error:
+            parser.error(f"argument --env-kwargs: {controller.name}: {error}")
+        try:
+            controller.make_policy(env)
+        except SpaceMismatchError as error:
+            parser.error(f"argument --env-kwargs: {error}")
+        except ValueError as error:
+            parser.error(f"argument --policy: {error}")
+        finally:
+            env.close()
+    return controllers, notes
+
+
+def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
+    """Evaluate, print the table, write the optional outputs; return the JSON document."""
+    parser = make_parser()
+    args = parser.parse_args(argv)
+    controllers, notes = _checked_controllers(parser, args)
+    seeds = [args.seed + i for i in range(args.episodes)]
+    results = evaluate(
+        controllers, seeds, args.workers, args.gym_packages, not args.no_progress_bar
+    )
+    summaries = {name: summarize(episodes) for name, episodes in results.items()}
+    by_name = {c.name: c for c in controllers}
+    document = {
+        "controllers": summaries,
+        "env_ids": {name: by_name[name].env_id for name in results},
+        "env_kwargs": {name: by_name[name].env_kwargs for name in results},
+        "policy": None if args.no_policy else str(args.policy),
+        "notes": notes,
+        "ci": CI_NOTE,
+    }
+    if SAME_CADENCE in results:
+        document["same_cadence_phase_rate"] = summaries["policy"]["mean_phase_rate"]
+    print(format_table(summaries))
+    for note in notes:
+        print(note)
+    if args.json:
+        args.json.write_text(json.dumps(jsonable(document), indent=2) + "\n")
+    if args.plot:
+        plot_heights(results, args.plot)
+    if args.video:
+        record_video(controllers[0], seeds[0], args.video)
+    return document

@@ -1,0 +1,120 @@
+"""A trained policy folder, loaded for evaluation: model, frozen VecNormalize, its env config.
+
+A policy folder is a training run folder or a copy of its final files (``model.zip``,
+``vecnormalize.pkl``, ``config.yml``); see :mod:`acl_env.training.runs`. Stable-Baselines3 is
+imported only when a policy is loaded. Every problem with a folder raises ``ValueError`` with a
+message that names the file and what was expected, so command lines can refuse it up front.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+
+from acl_env.training.config import normalize_kwargs
+from acl_env.training.runs import CONFIG_FILE, latest_model, run_config
+
+Policy = Callable[[np.ndarray], np.ndarray]
+
+
+class SpaceMismatchError(ValueError):
+    """The model was trained on an env with other observation or action shapes."""
+
+
+@dataclass(frozen=True)
+class PolicyFolder:
+    """What a policy folder holds: its env id and config entry, model and statistics paths."""
+
+    path: Path
+    env_id: str
+    hyperparams: dict[str, Any]
+    model: Path
+    vecnormalize: Path | None
+
+    @property
+    def env_kwargs(self) -> dict[str, Any]:
+        """The training env kwargs of the config (copy)."""
+        return dict(self.hyperparams.get("env_kwargs") or {})
+
+
+def read_policy_folder(path: str | Path) -> PolicyFolder:
+    """Check a policy folder's files and read its config; ``ValueError`` names what is wrong."""
+    path = Path(path)
+    if not path.is_dir():
+        raise ValueError(f"{path} is not a folder")
+    try:
+        config = run_config(path)
+    except Exception as error:  # YAML syntax, an empty or non-mapping file, ...
+        raise ValueError(f"{path / CONFIG_FILE} is not a zoo config ({error})") from error
+    if config is None:
+        raise ValueError(f"{path} has no {CONFIG_FILE}: it defines the policy's env")
+    env_id, hyperparams = config
+    if not isinstance(env_id, str) or not isinstance(hyperparams, dict):
+        raise ValueError(f"{path / CONFIG_FILE} must map one env id to its hyperparameters")
+    if env_id not in gymnasium.registry:
+        raise ValueError(
+            f"{path / CONFIG_FILE} names env {env_id!r}, which is not registered "
+            "(an older version of the env, or a package to pass with --gym-packages)"
+        )
+    env_kwargs = hyperparams.get("env_kwargs") or {}
+    if not isinstance(env_kwargs, dict):
+        raise ValueError(f"env_kwargs in {path / CONFIG_FILE} must be a mapping")
+    try:
+        model, vecnormalize = latest_model(path)
+    except FileNotFoundError as error:
+        raise ValueError(str(error)) from error
+    try:
+        normalized = normalize_kwargs(hyperparams) is not None
+    except (ValueError, TypeError, SyntaxError) as error:
+        raise ValueError(f"normalize in {path / CONFIG_FILE}: {error}") from error
+    if normalized and vecnormalize is None:
+        raise ValueError(f"{path} was trained with VecNormalize but has no statistics for {model}")
+    return PolicyFolder(path, env_id, dict(hyperparams), model, vecnormalize)
+
+
+def load_policy(folder: PolicyFolder | str | Path, env: gymnasium.Env) -> Policy:
+    """Deterministic actions of the folder's newest model for ``env``, observations normalised by
+    its VecNormalize statistics frozen (``training=False``, ``norm_reward=False``).
+
+    ``ValueError`` if a file does not load, :class:`SpaceMismatchError` if the model's spaces
+    do not match ``env``'s.
+    """
+    import torch
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    if not isinstance(folder, PolicyFolder):
+        folder = read_policy_folder(folder)
+    torch.set_num_threads(1)  # one small MLP forward per step; threads would fight the workers
+    try:
+        model = PPO.load(folder.model, device="cpu")
+    except Exception as error:  # a zip that is not an SB3 model fails in many ways
+        raise ValueError(f"{folder.model} is not a PPO model ({error})") from error
+    for name in ("observation_space", "action_space"):
+        trained, here = getattr(model, name), getattr(env, name)
+        if trained.shape != here.shape:
+            raise SpaceMismatchError(
+                f"{folder.model} was trained with {name} of shape {trained.shape}, but this env "
+                f"has {here.shape} (env kwargs that change the robot or the action do not apply)"
+            )
+    normalize: Callable[[np.ndarray], np.ndarray] = lambda obs: obs  # noqa: E731
+    if folder.vecnormalize is not None:
+        try:
+            stats = VecNormalize.load(str(folder.vecnormalize), DummyVecEnv([lambda: env]))
+        except Exception as error:  # unpickling garbage raises anything
+            raise ValueError(
+                f"{folder.vecnormalize} is not VecNormalize statistics for this env ({error})"
+            ) from error
+        stats.training, stats.norm_reward = False, False
+        normalize = stats.normalize_obs
+
+    def act(obs: np.ndarray) -> np.ndarray:
+        action, _ = model.predict(normalize(obs), deterministic=True)
+        return action
+
+    return act

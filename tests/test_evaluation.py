@@ -1,0 +1,374 @@
+"""The evaluation protocol (acl_env.evaluation) and its command line (train/evaluate.py)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+import pytest
+import yaml
+
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, evaluation
+from acl_env.constants import POLE_GEOM, shell_name
+from acl_env.training import evaluate
+from acl_env.training.runs import CONFIG_FILE, MODEL_FILE, VECNORMALIZE_FILE
+
+ROOT = Path(__file__).resolve().parents[1]
+SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}  # 20-step episodes
+SHORT_ARGS = [f"{k}:{v}" for k, v in SHORT.items()]
+QUIET = ["--no-progress-bar", "--workers", "1"]
+FIVE = {
+    "policy",
+    "open_loop_acl",
+    "open_loop_acl_same_cadence",
+    "open_loop_rolling_helix",
+    "open_loop_tuned",
+}
+
+
+# ---- statistics and arcs ------------------------------------------------------------------------
+
+
+def test_confidence_interval_uses_student_t() -> None:
+    """t quantiles match tables; the CI of [1, 2, 3] is 2 +- 4.303 * 1 / sqrt(3)."""
+    for dof, table in [(1, 12.7062), (4, 2.7764), (19, 2.0930)]:
+        assert evaluation.student_t_quantile(0.975, dof) == pytest.approx(table, abs=1e-4)
+    ci = evaluation.mean_ci95([1.0, 2.0, 3.0, math.nan])
+    assert ci["n"] == 3 and ci["mean"] == 2.0
+    assert ci["half_width"] == pytest.approx(4.3027 / math.sqrt(3), abs=1e-4)
+    one = evaluation.mean_ci95([5.0])  # one value has no interval
+    assert one["mean"] == 5.0 and math.isnan(one["half_width"])
+
+
+def test_covering_arc() -> None:
+    """The shortest arc covering the touched 10-degree bins, across bin 0 too."""
+    bins = np.zeros((6, 36), dtype=bool)
+    bins[1, 4] = True  # one bin
+    bins[2, [35, 0, 1]] = True  # three bins across 0 degrees
+    bins[3, [0, 18]] = True  # opposite sides: the covering arc is 190 degrees
+    bins[4, :] = True
+    bins[5, ::2] = True  # every other bin: no gap longer than one bin
+    assert evaluation.covering_arc_deg(bins).tolist() == [0.0, 10.0, 30.0, 190.0, 360.0, 350.0]
+
+
+def test_arc_bins_measure_the_angle_about_the_module_axis() -> None:
+    """x is the module's axis: the angle is atan2(z, y), in 10-degree bins."""
+    points = np.array([[0.03, 1.0, 0.0], [0.0, 0.0, 1.0], [-0.01, -1.0, 0.0], [0.0, 1.0, -0.01]])
+    assert evaluation.arc_bins(points).tolist() == [0, 9, 18, 35]
+
+
+def test_cadence_action_inverts_the_env_mapping() -> None:
+    """rate = 1 + a (high - 1) for a >= 0, 1 + a (1 - low) below."""
+    assert evaluation.cadence_action(1.25, (0.5, 1.5)) == pytest.approx(0.5)
+    assert evaluation.cadence_action(0.75, (0.5, 1.5)) == pytest.approx(-0.5)
+    assert evaluation.cadence_action(1.0, (0.5, 1.5)) == 0.0
+    with pytest.raises(ValueError, match="phase_rate"):
+        evaluation.cadence_action(2.0, (0.5, 1.5))
+
+
+# ---- every metric on a short rollout, checked by hand -------------------------------------------
+
+
+def test_every_metric_on_a_hand_checked_rollout() -> None:
+    """A 20-step episode at a constant 1.5 keyframes per step with a saturating residual: each
+    metric recomputed from what the env reported step by step, contacts from their normals."""
+    weights = {"climb": 1.0, "slip": 2.0}
+    env = gymnasium.make(
+        ACL_CLIMB_ID,
+        **SHORT,
+        phase_rate_range=(0.5, 1.5),
+        residual_scale=0.3,
+        reward_weights=weights,
+    )
+    base = env.unwrapped
+    n = base.n_joints
+    action = np.zeros(n + 1, dtype=np.float32)
+    action[:n:2] = 1.0  # every other joint pushed 0.3 rad off the gait: some torques saturate
+    action[-1] = 1.0  # cadence 1.5 keyframes per step
+    log: dict[str, list[Any]] = {k: [] for k in ("info", "reward", "torque", "angles")}
+    pole = base.model.geom(POLE_GEOM).id
+    module_of = {base.model.geom(shell_name(k)).id: k for k in range(n + 1)}
+
+    def record(env: gymnasium.Env, obs: np.ndarray, act: np.ndarray | None, info: dict) -> None:
+        if act is None:
+            return
+        log["info"].append(info)
+        log["torque"].append(base.data.actuator_force.copy())
+        angles = []  # angle about the module axis of each contact normal, module -> pole
+        for i in range(base.data.ncon):
+            contact = base.data.contact[i]
+            g1, g2 = (int(g) for g in contact.geom)
+            shell = g2 if g1 == pole else g1
+            if pole not in (g1, g2) or shell not in module_of or contact.efc_address < 0:
+                continue
+            normal = contact.frame[:3] * (1.0 if g1 == shell else -1.0)
+            body = base.model.geom_bodyid[shell]
+            local = base.data.xmat[body].reshape(3, 3).T @ normal
+            angles.append((module_of[shell], local))
+        log["angles"].append(angles)
+
+    episode = evaluation.run_episode(env, lambda obs: action, seed=3, callback=record)
+    metrics = episode.metrics()
+    infos = log["info"]
+    steps = len(infos)
+    assert steps == 20 and episode.steps == 20 and not episode.fell
+    climb = sum(i["climb"] for i in infos)
+    slip = sum(i["slip"] for i in infos)
+    energy = sum(i["energy"] for i in infos)
+    assert all(i["phase_rate"] == pytest.approx(1.5) for i in infos)
+    cycles, gait_cycles = steps / 20, 1.5 * steps / 20
+    reward = climb - 2.0 * slip  # the env's reward under these weights
+    torque = np.abs(np.array(log["torque"]))
+    assert climb > 0.0
+    expected = {
+        "climb_per_cycle_m": climb / cycles,
+        "climb_per_gait_cycle_m": climb / gait_cycles,
+        "climb_speed_cm_s": 100.0 * climb / (steps * 0.1),
+        "slip_per_cycle_m": slip / cycles,
+        "slip_per_m": slip / climb,
+        "energy_per_m": energy / climb,
+        "mean_abs_torque_nm": torque.mean(),
+        "torque_limit_fraction": np.mean(torque >= 7.0 - 1e-9),
+        "reward_per_gait_cycle": reward / gait_cycles,
+        "falls": 0.0,
+    }
+    for name, value in expected.items():
+        assert metrics[name] == pytest.approx(value, rel=1e-9, abs=1e-12), name
+    assert 0.0 < metrics["torque_limit_fraction"] < 1.0  # the saturating residual did saturate
+    assert metrics["climb_per_gait_cycle_m"] == pytest.approx(metrics["climb_per_cycle_m"] / 1.5)
+    # The touched arc from the contact normals' angles about each module's axis.
+    touched = np.zeros((n + 1, 36), dtype=bool)
+    for step in log["angles"]:
+        for module, local in step:
+            angle = math.atan2(local[2], local[1]) % (2 * math.pi)
+            touched[module, min(int(angle / (2 * math.pi) * 36), 35)] = True
+    assert touched.any()
+    assert np.array_equal(touched, episode.touched_bins)
+    assert metrics["touched_arc_deg"] == evaluation.covering_arc_deg(touched).max()
+    assert set(metrics) == set(evaluation.METRICS)
+
+
+@pytest.mark.slow
+def test_touched_arc_of_rolling_and_non_rolling_gaits() -> None:
+    """Over 2 cycles the rolling helix touches at least 270 degrees of some module; the
+    non-rolling ACL at most 90 on every module (sensors could sit on the rest)."""
+    for env_id, kwargs, check in [
+        (ROLLING_HELIX_CLIMB_ID, {}, lambda arcs: arcs.max() >= 270.0),
+        (ACL_CLIMB_ID, {"gait_kwargs": {"rolls_per_cycle": 0}}, lambda arcs: arcs.max() <= 90.0),
+    ]:
+        env = gymnasium.make(env_id, cycles_per_episode=2, **kwargs)
+        episode = evaluation.run_episode(env, evaluation.zero_policy(env), seed=0)
+        assert episode.steps == 2 * 220 and not episode.fell
+        assert check(episode.touched_arcs_deg), (env_id, episode.touched_arcs_deg)
+
+
+# ---- the command line ---------------------------------------------------------------------------
+
+
+def zero_action_metrics(env_id: str, env_kwargs: dict[str, Any], seeds: list[int]) -> dict:
+    """Per-episode climb and slip per cycle of the open-loop gait, straight from the env."""
+    env = gymnasium.make(env_id, **env_kwargs)
+    climbs, slips = [], []
+    for seed in seeds:
+        env.reset(seed=seed)
+        steps, climb, slip, done = 0, 0.0, 0.0, False
+        while not done:
+            _, _, terminated, truncated, info = env.step(np.zeros(env.action_space.shape))
+            steps, climb, slip = steps + 1, climb + info["climb"], slip + info["slip"]
+            done = terminated or truncated
+        cycles = steps / env.unwrapped.steps_per_cycle
+        climbs.append(climb / cycles)
+        slips.append(slip / cycles)
+    return {"climb_per_cycle_m": climbs, "slip_per_cycle_m": slips}
+
+
+def test_open_loop_numbers_equal_a_zero_action_rollout(tmp_path: Path) -> None:
+    """The open-loop rows are exactly the env's zero-action rollouts on the same seeds; a bool
+    env kwarg on the command line is a bool."""
+    out = tmp_path / "eval.json"
+    argv = ["--no-policy", "--episodes", "2", "--seed", "3", "--json", str(out), *QUIET]
+    evaluate.main([*argv, "--env-kwargs", *SHORT_ARGS, "domain_randomization:false"])
+    document = json.loads(out.read_text())
+    controllers = document["controllers"]
+    assert {"open_loop_acl", "open_loop_rolling_helix"} <= set(controllers)
+    assert document["env_kwargs"]["open_loop_acl"]["domain_randomization"] is False
+    for name, env_id in [
+        ("open_loop_acl", ACL_CLIMB_ID),
+        ("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID),
+    ]:
+        direct = zero_action_metrics(env_id, SHORT, [3, 4])
+        for metric, values in direct.items():
+            assert controllers[name][metric]["values"] == pytest.approx(values, abs=1e-9)
+            assert controllers[name][metric]["mean"] == pytest.approx(np.mean(values), abs=1e-9)
+
+
+@pytest.fixture(scope="module")
+def policy_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """An untrained PPO policy folder for the short ACL env with the cadence option: model,
+    VecNormalize statistics and config.yml, as a training run writes them."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    from acl_env.training.config import save_hyperparams
+
+    folder = tmp_path_factory.mktemp("policy")
+    env_kwargs = {**SHORT, "phase_rate_range": [0.5, 1.5], "residual_scale": 0.08}
+    env_kwargs["reward_weights"] = {"climb": 1.0, "slip": 2.0}
+    env_kwargs["domain_randomization"] = True
+    venv = VecNormalize(DummyVecEnv([lambda: gymnasium.make(ACL_CLIMB_ID, **env_kwargs)]))
+    model = PPO("MlpPolicy", venv, n_steps=64, batch_size=64, seed=0, device="cpu")
+    model.save(folder / MODEL_FILE)
+    venv.save(str(folder / VECNORMALIZE_FILE))
+    hyperparams = {"policy": "MlpPolicy", "normalize": True, "env_kwargs": env_kwargs}
+    save_hyperparams(folder / CONFIG_FILE, ACL_CLIMB_ID, hyperparams)
+    return folder
+
+
+def tuned_gaits_file(path: Path, weights: dict[str, float]) -> Path:
+    """A tuned-gaits file in the tuner's format with one rolling gait (squeeze 0.4 cm)."""
+    entry = {
+        "env_id": ACL_CLIMB_ID,
+        "env_kwargs": {"squeeze": 0.004, "gait_kwargs": {"amp_pitch": 0.02, "rolls_per_cycle": 1}},
+        "objective": "reward_per_gait_cycle",
+        "reward_weights": weights,
+        "trials": 7,
+    }
+    path.write_text(yaml.safe_dump({"acl": entry}))
+    return path
+
+
+def test_evaluation_writes_every_metric_and_controller(policy_folder: Path, tmp_path: Path) -> None:
+    """policy, open loop (also at the policy's mean cadence), rolling helix and the tuned gait:
+    every metric, finite where defined; the training reward weights for every controller; the
+    same-cadence open loop at the policy's mean phase rate."""
+    out = tmp_path / "eval.json"
+    tuned = tuned_gaits_file(tmp_path / "tuned.yml", {"climb": 1.0, "slip": 2.0})
+    argv = ["--policy", str(policy_folder), "--episodes", "2", "--json", str(out), *QUIET]
+    plot = ["--plot", str(tmp_path / "eval.png")]
+    document = evaluate.main([*argv, "--tuned-gaits", str(tuned), *plot])
+    assert json.loads(out.read_text())["controllers"].keys() == FIVE
+    assert (tmp_path / "eval.png").stat().st_size > 0
+    summaries = document["controllers"]
+    for name, summary in summaries.items():
+        assert summary["episodes"] == 2 and summary["seeds"] == [0, 1]
+        for metric in evaluation.METRICS:
+            assert len(summary[metric]["values"]) == 2, (name, metric)
+            assert math.isfinite(summary[metric]["mean"]), (name, metric)
+        kwargs = document["env_kwargs"][name]
+        assert kwargs["reward_weights"] == {"climb": 1.0, "slip": 2.0}
+        assert "domain_randomization" not in kwargs
+    assert document["env_kwargs"]["open_loop_tuned"]["squeeze"] == 0.004
+    rate = summaries["policy"]["mean_phase_rate"]
+    assert summaries["open_loop_acl_same_cadence"]["mean_phase_rate"] == pytest.approx(rate)
+    assert summaries["open_loop_acl"]["mean_phase_rate"] == 1.0
+
+
+def test_the_shipped_policy_gets_every_metric_and_controller(tmp_path: Path) -> None:
+    """The default policy folder and tuned gaits file: five controllers, every metric (fails
+    until the shipped policy is trained on the current env id and the tuner has run)."""
+    document = evaluate.main(["--episodes", "2", "--env-kwargs", *SHORT_ARGS, *QUIET])
+    assert document["controllers"].keys() == FIVE, document["notes"]
+    for summary in document["controllers"].values():
+        assert set(evaluation.METRICS) <= set(summary)
+
+
+def _corrupt(policy_folder: Path, tmp_path: Path, name: str, text: str | None) -> Path:
+    """A copy of the policy folder with ``name`` replaced by ``text`` (deleted when None)."""
+    import shutil
+
+    copy = tmp_path / "policy_copy"
+    shutil.copytree(policy_folder, copy)
+    if text is None:
+        (copy / name).unlink()
+    else:
+        (copy / name).write_text(text)
+    return copy
+
+
+# (arguments, the argument the one-line message must name); {policy} is the policy folder,
+# {tmp} an empty folder, {bad:<file>:<text>} a copy of the policy folder with that file replaced.
+BAD_ARGUMENTS = [
+    (["--episodes", "0"], "--episodes"),
+    (["--episodes", "-1"], "--episodes"),
+    (["--episodes", "two"], "--episodes"),
+    (["--workers", "0"], "--workers"),
+    (["--seed", "-1"], "--seed"),
+    (["--json", "{tmp}/missing/x.json"], "--json"),
+    (["--json", "{tmp}"], "--json"),
+    (["--plot", "{tmp}/x.xyz"], "--plot"),
+    (["--video", "{tmp}/missing/x.mp4"], "--video"),
+    (["--policy", "{tmp}/missing"], "--policy"),
+    (["--policy", "{tmp}"], "--policy"),  # no config.yml
+    (["--policy", "{bad:config.yml:}"], "--policy"),  # empty config.yml
+    (["--policy", "{bad:config.yml:[1, 2}"], "--policy"),  # not YAML
+    (["--policy", "{bad:vecnormalize.pkl:garbage}"], "--policy"),
+    (["--policy", "{bad:model.zip:garbage}"], "--policy"),
+    (["--policy", "{bad:model.zip:None}"], "--policy"),  # no model at all
+    (["--policy", "{policy}", "--no-policy"], "--no-policy"),
+    (["--policy", "{policy}", "--env-kwargs", "n_joints:10"], "--env-kwargs"),
+    (["--env-kwargs", "bogus:1"], "--env-kwargs"),
+    (["--env-kwargs", "friction:-1"], "--env-kwargs"),
+    (["--env-kwargs", "friction"], "--env-kwargs"),
+    (["--env-kwargs", "friction:1", "friction:2"], "--env-kwargs"),
+    (["--reward-weights", "bogus:1"], "--reward-weights"),
+    (["--gym-packages", "no_such_module_here"], "--gym-packages"),
+    (["--tuned-gaits", "{tmp}/tuned.yml", "--tuned-text", "acl: 5"], "--tuned-gaits"),
+    (["--bogus"], "--bogus"),
+]
+
+
+@pytest.mark.parametrize(
+    ("argv", "named"), BAD_ARGUMENTS, ids=[" ".join(a) for a, _ in BAD_ARGUMENTS]
+)
+def test_bad_arguments_are_refused_before_any_work(
+    argv: list[str],
+    named: str,
+    policy_folder: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Exit status 2, one line naming the argument, nothing written."""
+    work = tmp_path / "work"
+    work.mkdir()
+    args = []
+    for arg in argv:
+        if arg.startswith("{bad:"):
+            name, _, text = arg[5:-1].partition(":")
+            arg = str(_corrupt(policy_folder, tmp_path, name, None if text == "None" else text))
+        args.append(arg.format(policy=policy_folder, tmp=work))
+    if "--tuned-text" in args:  # write the tuned-gaits file the case names
+        i = args.index("--tuned-text")
+        Path(args[i - 1]).write_text(args[i + 1])
+        del args[i : i + 2]
+    before = sorted(work.rglob("*"))
+    if "--policy" not in args and "--no-policy" not in args:
+        args = ["--policy", str(policy_folder), *args]
+    with pytest.raises(SystemExit) as exit_info:
+        evaluate.main(
+            [*args, "--episodes", "1", *QUIET] if "--episodes" not in args else [*args, *QUIET]
+        )
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and named in err, err
+    assert sorted(work.rglob("*")) == before  # nothing left behind
+
+
+def test_the_script_refuses_bad_input_with_status_2() -> None:
+    """Through the command line a user types: one line on stderr, status 2, no traceback."""
+    proc = subprocess.run(
+        [sys.executable, "train/evaluate.py", "--episodes", "0"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines() == [
+        "evaluate.py: error: argument --episodes: expected an integer >= 1, got 0 (see --help)"
+    ]

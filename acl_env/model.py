@@ -71,12 +71,13 @@ def build_spec(
     friction: float = DEFAULT_FRICTION,
     kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
+    timestep: float = PHYSICS_TIMESTEP,
 ) -> mujoco.MjSpec:
     """The scene with an ``n_joints`` SEA snake, as an editable spec."""
     with resources.as_file(assets_dir() / SCENE_FILE) as scene_path:
         spec = mujoco.MjSpec.from_file(str(scene_path))
-    spec.compiler.degree = False  # MjSpec angles default to degrees
-    spec.option.timestep = PHYSICS_TIMESTEP
+    spec.compiler.degree = False  # degrees by default (docs/mujoco_notes.md#angles-in-degrees)
+    spec.option.timestep = timestep
     module = spec.find_default(MODULE_CLASS)
     # The SEA module (acl_env.constants): these constants drive the template's defaults.
     module.geom.size[0] = SEA_MODULE_RADIUS
@@ -122,9 +123,10 @@ def build_model(
     friction: float = DEFAULT_FRICTION,
     kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
+    timestep: float = PHYSICS_TIMESTEP,
 ) -> mujoco.MjModel:
     """Compile the scene with an ``n_joints`` SEA snake (see :func:`build_spec`)."""
-    return build_spec(n_joints, pole_radius, friction, kp, module_length).compile()
+    return build_spec(n_joints, pole_radius, friction, kp, module_length, timestep).compile()
 
 
 def snake_geom_ids(model: mujoco.MjModel, n_joints: int) -> np.ndarray:

@@ -230,6 +230,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         reset_noise_scale: float = 0.02,
         fall_distance: float = 0.2,
         phase_rate_range: tuple[float, float] | None = None,
+        timestep: float = PHYSICS_TIMESTEP,
         render_mode: str | None = None,
         width: int = 640,
         height: int = 480,
@@ -254,6 +255,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             reset_noise_scale,
             fall_distance,
             phase_rate_range,
+            timestep,
             render_mode,
             width,
             height,
@@ -313,12 +315,12 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
                 )
             start_gait = self.base_gait if GAITS[self.base_gait] else "acl"
             GAITS[start_gait](**self._gait_kwargs(radius))  # raises naming the bad entry
+        self.timestep, frame_skip = _timestep(timestep)
 
         self.gait = self._make_gait(self.pole_radius)
         n = self.n_joints
         obs_size = 4 * n + 9 + (6 if self.privileged_obs else 0)
         observation_space = spaces.Box(-np.inf, np.inf, shape=(obs_size,), dtype=np.float64)
-        frame_skip = round(CONTROL_DT / PHYSICS_TIMESTEP)
         MujocoEnv.__init__(
             self,
             str(assets_dir() / SCENE_FILE),
@@ -363,7 +365,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     # -- construction -------------------------------------------------------------------------
 
     def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
-        model = build_model(self.n_joints, self.pole_radius, self.friction, self.kp)
+        model = build_model(
+            self.n_joints, self.pole_radius, self.friction, self.kp, timestep=self.timestep
+        )
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
         return model, mujoco.MjData(model)
@@ -532,7 +536,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         """Mean sliding speed (m/s) of the snake-pole contacts; is the pole touched; the floor?
 
         With an elliptic cone each contact's constraint rows are the normal then the two
-        tangential directions; their ``efc_vel`` is the relative sliding velocity.
+        tangential directions; their ``efc_vel`` is the relative sliding velocity. With a
+        pyramidal cone the rows are the pyramid's edges ``n +- mu_i t_i``, whose differences
+        give the same tangential velocities.
         """
         ncon = self.data.ncon
         if ncon == 0:
@@ -546,7 +552,14 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         if rows.size == 0:
             return 0.0, False, on_floor
         vel = self.data.efc_vel
-        speed = np.hypot(vel[rows + 1], vel[rows + 2])
+        if self.model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC:
+            speed = np.hypot(vel[rows + 1], vel[rows + 2])
+        else:  # pyramidal: rows n + mu_i t_i, n - mu_i t_i for i = 1, 2
+            mu = contact.friction[:ncon][kind == 1]
+            speed = np.hypot(
+                (vel[rows] - vel[rows + 1]) / (2.0 * mu[:, 0]),
+                (vel[rows + 2] - vel[rows + 3]) / (2.0 * mu[:, 1]),
+            )
         return float(speed.sum()) / rows.size, True, on_floor
 
     def _get_obs(self) -> np.ndarray:
@@ -578,6 +591,23 @@ def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:
     sensor = model.sensor(name)
     start = int(sensor.adr[0])
     return slice(start, start + int(sensor.dim[0]))
+
+
+def _timestep(value: float) -> tuple[float, int]:
+    """Validated physics step (s) and the MuJoCo steps per control step (``frame_skip``): the
+    0.1 s control step must be a whole number of physics steps, and of contact samples."""
+    timestep = check_positive("timestep", value)
+    frame_skip = round(CONTROL_DT / timestep)
+    if frame_skip < 1 or not math.isclose(frame_skip * timestep, CONTROL_DT, rel_tol=1e-9):
+        raise ValueError(
+            f"timestep must divide the {CONTROL_DT} s control step into whole steps, got {value}"
+        )
+    if frame_skip % SLIP_SAMPLES:
+        raise ValueError(
+            f"timestep must give a multiple of {SLIP_SAMPLES} physics steps per control step "
+            f"(the contact samples), got {value} ({frame_skip} steps)"
+        )
+    return timestep, frame_skip
 
 
 def _phase_rate_range(

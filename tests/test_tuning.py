@@ -16,6 +16,7 @@ import pytest
 import yaml
 
 from acl_env import ACL_CLIMB_ID
+from acl_env.evaluation import jsonable, run_episode, zero_policy
 from acl_env.training import tuning
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -59,7 +60,7 @@ def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) ->
     document = yaml.safe_load((tmp_path / "tuned.yml").read_text())
     assert (tmp_path / "tuned.yml").read_text().startswith(tuning.HEADER)
     saved = document["acl"]
-    assert saved == tuning._plain(entry)
+    assert saved == jsonable(entry)
     assert saved["env_id"] == ACL_CLIMB_ID
     assert saved["trials"] == 8
     assert saved["best_trial"] == study.best_trial.number
@@ -82,10 +83,10 @@ def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) ->
         reward_weights=saved["reward_weights"],
         **saved["env_kwargs"],
     )
-    replay = tuning.rollout_metrics(env, 0)
+    replay = run_episode(env, zero_policy(env), 0).metrics()
     env.close()
     for metric, value in saved["metrics"].items():
-        assert replay[metric] == pytest.approx(value, rel=1e-9)
+        assert replay[metric] == pytest.approx(value, rel=1e-9, nan_ok=True)
 
 
 def test_rerun_resumes_the_study_and_other_settings_are_refused(
@@ -148,6 +149,7 @@ def test_a_saturated_gait_is_disqualified_without_a_rollout(tmp_path: Path) -> N
         (["--reward-weights", "height:1"], "--reward-weights"),
         (["--config", "no/such/config.yml"], "--config"),
         (["--max-clipped", "2"], "--max-clipped"),
+        (["--no-roll", "--max-arc", "0"], "--max-arc"),
     ],
 )
 def test_bad_input_is_one_line_naming_the_argument(
@@ -191,7 +193,7 @@ def test_command_line_error_from_the_script(tmp_path: Path) -> None:
     assert proc.returncode == 2
     assert proc.stderr.splitlines() == [
         "acl-tune-gait: error: argument --objective: unknown 'speed'; known: "
-        f"{list(tuning.OBJECTIVES)}"
+        f"{list(tuning.OBJECTIVES)} (see --help)"
     ]
 
 
@@ -210,3 +212,13 @@ def test_env_kwargs_split_squeeze_from_the_gait() -> None:
     env = gymnasium.make(ACL_CLIMB_ID, **kwargs)  # the env accepts them as they are
     assert math.isclose(env.unwrapped.gait.curve.amp_pitch, tuning.DEFAULT_PARAMS["amp_pitch"])
     env.close()
+
+
+def test_a_gait_that_rolls_is_disqualified_by_max_arc(tmp_path: Path) -> None:
+    # The default rolling gait touches the pole all round some module (issue 9: 360 deg).
+    space = [f"{name}:{value}:{value}" for name, value in tuning.DEFAULT_PARAMS.items()]
+    with pytest.raises(SystemExit):
+        tuning.main(tiny_args(tmp_path, "--n-trials", "1", "--max-arc", "90", "--space", *space))
+    (trial,) = load(tmp_path).trials
+    assert trial.user_attrs["disqualified"] == "rolled"
+    assert trial.user_attrs["max_touched_arc_deg"] > 90.0

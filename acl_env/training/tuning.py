@@ -7,8 +7,10 @@ a few seeds, and scores it by one evaluation metric, by default the env's reward
 under the given ``reward_weights`` (default: the training config's). A gait that falls on any
 seed, or whose keyframe table the +-90 deg joint limit clips in more than ``max_clipped`` of its
 (keyframe, joint) entries, is disqualified (the trial is pruned, its reason in the user
-attribute ``disqualified``). Every trial stores its metrics (mean
-over seeds) as user attributes.
+attribute ``disqualified``); so is, with ``--no-roll``, a gait that touches the pole over more than
+90 degrees of some module's circumference (it rolls after all: ``touched_arc_deg``). Episodes are
+rolled out and measured by :mod:`acl_env.evaluation` (``run_episode``, ``Episode.metrics``), and
+every trial stores those metrics (mean over its seeds) as user attributes.
 
 Parallel and resumable as rl_zoo3's ``--optimize --storage``: the study lives in a database
 (SQLite file by default, any SQLAlchemy URL Optuna accepts), ``--n-jobs`` worker processes share
@@ -33,7 +35,8 @@ Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per ke
       best_trial: 123
       study: acl
       metrics: {climb_per_gait_cycle_m: .., slip_per_m: .., energy_per_m: ..,
-                reward_per_gait_cycle: .., falls: 0.0}     # best gait, mean over seeds
+                reward_per_gait_cycle: .., falls: 0.0, ...}  # acl_env.evaluation.METRICS of
+                                       # the best gait, mean over the seeds
       default_gait_metrics: {...}      # the untuned gait, same protocol (the study's trial 0)
 
     acl-tune-gait --n-trials 300                  # rolling ACL, training reward weights
@@ -54,7 +57,7 @@ import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any
 
 import gymnasium
 import numpy as np
@@ -63,7 +66,7 @@ import yaml
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID
-from acl_env.evaluation import mean_ci95
+from acl_env.evaluation import METRICS, jsonable, mean_ci95, run_episode, zero_policy
 from acl_env.gait.gaits import (
     DEFAULT_AMP_PITCH,
     DEFAULT_PITCH,
@@ -72,6 +75,7 @@ from acl_env.gait.gaits import (
     SEA_MODULE_DIAMETER,
     helix_radius,
 )
+from acl_env.training import cli
 from acl_env.training.config import load_hyperparams, parse_kv_pairs
 
 DEFAULT_CONFIG = Path("train/configs/ppo.yml")
@@ -87,13 +91,6 @@ OBJECTIVES = {
     "slip_per_m": "minimize",
     "energy_per_m": "minimize",
 }
-METRICS = (
-    "climb_per_gait_cycle_m",
-    "slip_per_m",
-    "energy_per_m",
-    "reward_per_gait_cycle",
-    "falls",
-)
 ENV_PARAMS = ("squeeze",)  # searched parameters that are env arguments; the rest are gait_kwargs
 
 
@@ -152,7 +149,7 @@ HEADER = """\
 #   objective              the metric optimised, under reward_weights (the env's weights)
 #   seeds, steps_per_cycle, cycles_per_episode   each trial's episodes (reset seeds)
 #   trials, best_trial, study   finished trials of the Optuna study, the best one, its name
-#   metrics                the best gait's metrics, mean over the seeds
+#   metrics                the best gait's metrics (acl_env.evaluation), mean over the seeds
 #   default_gait_metrics   the untuned default gait under the same protocol
 """
 
@@ -175,6 +172,7 @@ class TuneSettings:
     steps_per_cycle: int = 220
     cycles_per_episode: int = 2
     max_clipped: float = 0.1
+    max_touched_arc_deg: float | None = None
     space: dict[str, ParamRange] = field(default_factory=lambda: dict(SEARCH_SPACE))
 
     @property
@@ -291,34 +289,6 @@ def open_storage(storage: str) -> optuna.storages.RDBStorage:
 # --- the objective --------------------------------------------------------------------------------
 
 
-def rollout_metrics(env: gymnasium.Env, seed: int) -> dict[str, float]:
-    """One open-loop episode (zero action) from ``reset(seed=seed)``: the per-episode metrics.
-
-    Gait cycles executed = keyframes advanced / steps_per_cycle; slip and energy per metre of
-    climb are NaN when the episode did not climb.
-    """
-    env.reset(seed=seed)
-    zero = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)
-    reward = climb = slip = energy = keyframes = 0.0
-    terminated = truncated = False
-    info: dict[str, Any] = {}
-    while not (terminated or truncated):
-        _, r, terminated, truncated, info = env.step(zero)
-        reward += float(r)
-        climb += float(info["climb"])
-        slip += float(info["slip"])
-        energy += float(info["energy"])
-        keyframes += float(info["phase_rate"])
-    cycles = keyframes / env.unwrapped.steps_per_cycle
-    return {
-        "climb_per_gait_cycle_m": climb / cycles,
-        "slip_per_m": slip / climb if climb > 0.0 else math.nan,
-        "energy_per_m": energy / climb if climb > 0.0 else math.nan,
-        "reward_per_gait_cycle": reward / cycles,
-        "falls": float(bool(terminated and info.get("fell", False))),
-    }
-
-
 def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict[str, float]:
     """The trial's gait parameters from the search space."""
     params: dict[str, float] = {}
@@ -347,7 +317,7 @@ def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
                 raise optuna.TrialPruned(f"joint limit clips {saturation.sample_fraction:.0%}")
             episodes = []
             for step, seed in enumerate(settings.seeds):
-                episodes.append(rollout_metrics(env, seed))
+                episodes.append(run_episode(env, zero_policy(env), seed).metrics())
                 trial.report(episodes[-1][settings.objective], step)
                 if episodes[-1]["falls"]:
                     break
@@ -360,6 +330,11 @@ def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
         if metrics["falls"] > 0.0:
             trial.set_user_attr("disqualified", "fell")
             raise optuna.TrialPruned(f"fell on seed {settings.seeds[len(episodes) - 1]}")
+        arc = max(e["touched_arc_deg"] for e in episodes)
+        trial.set_user_attr("max_touched_arc_deg", arc)
+        if settings.max_touched_arc_deg is not None and arc > settings.max_touched_arc_deg:
+            trial.set_user_attr("disqualified", "rolled")
+            raise optuna.TrialPruned(f"a module's skin touched the pole over {arc:.0f} deg")
         value = metrics[settings.objective]
         if math.isnan(value):
             trial.set_user_attr("disqualified", "no climb")
@@ -547,7 +522,7 @@ def write_tuned_gaits(path: str | Path, key: str, entry: dict[str, Any]) -> None
     """Replace ``key`` in the YAML file (other entries kept), with the format's header comment."""
     path = Path(path)
     document = (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
-    document[key] = _plain(entry)
+    document[key] = jsonable(entry)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(HEADER + yaml.safe_dump(document, sort_keys=False))
 
@@ -556,19 +531,6 @@ def read_tuned_gaits(path: str | Path = DEFAULT_OUTPUT) -> dict[str, dict[str, A
     """The tuned gaits by key (the YAML document written by :func:`write_tuned_gaits`)."""
     with open(path) as f:
         return yaml.safe_load(f) or {}
-
-
-def _plain(value: Any) -> Any:
-    """YAML-safe plain values: numpy scalars as Python numbers, NaN as None."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 def policy_point(path: str | Path, controller: str = "policy") -> tuple[float, float]:
@@ -650,21 +612,19 @@ def plot_frontier(
 # --- command line ---------------------------------------------------------------------------------
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (exit status 2, as argparse's own)."""
-
-    def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
-def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
+def make_parser() -> cli.ArgumentParser:
     """Command line (paths relative to the repository root, where it is meant to run)."""
-    parser = _Parser(
+    parser = cli.ArgumentParser(
         prog="acl-tune-gait",
         description="Tune the open-loop ACL gait with Optuna (parallel, resumable).",
     )
+    positive = cli.int_at_least(1)
     parser.add_argument("--no-roll", action="store_true", help="rolls_per_cycle=0 (key acl_noroll)")
-    parser.add_argument("--objective", default="reward_per_gait_cycle", help=str(list(OBJECTIVES)))
+    parser.add_argument(
+        "--objective",
+        default="reward_per_gait_cycle",
+        help=f"evaluation metric to optimise, one of {list(OBJECTIVES)}",
+    )
     parser.add_argument(
         "--reward-weights",
         nargs="*",
@@ -673,21 +633,33 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
         help="env reward weights (default: the training config's)",
     )
     parser.add_argument("--config", default=str(DEFAULT_CONFIG), help="training config (zoo YAML)")
-    parser.add_argument("--n-trials", type=int, default=300, help="the study's total trials")
-    parser.add_argument("--n-jobs", type=int, default=1, help="worker processes")
+    parser.add_argument(
+        "--n-trials",
+        type=positive,
+        default=300,
+        help="the study's total trials: a rerun, or another process, runs only what is missing",
+    )
+    parser.add_argument("--n-jobs", type=positive, default=1, help="worker processes")
     parser.add_argument(
         "--storage", default=str(DEFAULT_STORAGE), help="SQLite file or Optuna storage URL"
     )
     parser.add_argument("--study-name", default=None, help="default: the key")
     parser.add_argument("--key", default=None, help="entry in --output (acl / acl_noroll)")
     parser.add_argument("--seeds", type=int, nargs="+", default=list(DEFAULT_SEEDS))
-    parser.add_argument("--steps-per-cycle", type=int, default=220)
-    parser.add_argument("--cycles", type=int, default=2, help="gait cycles per episode")
+    parser.add_argument("--steps-per-cycle", type=cli.int_at_least(2), default=220)
+    parser.add_argument("--cycles", type=positive, default=2, help="gait cycles per episode")
     parser.add_argument(
         "--max-clipped",
         type=float,
         default=0.1,
         help="largest share of the keyframe table's joint angles the +-90 deg limit may clip",
+    )
+    parser.add_argument(
+        "--max-arc",
+        type=float,
+        default=None,
+        help="disqualify gaits whose largest touched arc (deg) exceeds this on any seed "
+        "(default: 90 with --no-roll, so the tuned gait truly does not roll; none otherwise)",
     )
     parser.add_argument(
         "--space", nargs="*", default=[], metavar="NAME:LOW:HIGH", help="search range overrides"
@@ -701,23 +673,18 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     )
     parser.add_argument("--sampler-seed", type=int, default=None)
     parser.add_argument("--no-progress-bar", action="store_true")
-    return parser.parse_args(argv)
+    return parser
 
 
 def settings_from_args(args: argparse.Namespace) -> TuneSettings:
     """Validated settings; bad input raises :class:`UsageError` naming the argument."""
     if args.objective not in OBJECTIVES:
         raise UsageError("--objective", f"unknown {args.objective!r}; known: {list(OBJECTIVES)}")
-    if args.n_trials <= 0:
-        raise UsageError("--n-trials", f"must be positive, got {args.n_trials}")
-    if args.n_jobs <= 0:
-        raise UsageError("--n-jobs", f"must be positive, got {args.n_jobs}")
-    if args.steps_per_cycle < 2:
-        raise UsageError("--steps-per-cycle", f"must be >= 2, got {args.steps_per_cycle}")
-    if args.cycles < 1:
-        raise UsageError("--cycles", f"must be >= 1, got {args.cycles}")
     if not 0.0 <= args.max_clipped <= 1.0:
         raise UsageError("--max-clipped", f"must be in [0, 1], got {args.max_clipped}")
+    max_arc = args.max_arc if args.max_arc is not None else (90.0 if args.no_roll else None)
+    if max_arc is not None and not 0.0 < max_arc <= 360.0:
+        raise UsageError("--max-arc", f"must be in (0, 360] degrees, got {max_arc}")
     if len(set(args.seeds)) != len(args.seeds):
         raise UsageError("--seeds", f"repeated seeds {args.seeds}")
     if args.reward_weights is None:
@@ -739,7 +706,7 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         env.close()
     except (ValueError, TypeError) as exc:
         raise UsageError("--reward-weights", str(exc)) from None
-    settings = TuneSettings(
+    return TuneSettings(
         objective=args.objective,
         reward_weights=weights,
         rolls_per_cycle=0 if args.no_roll else 1,
@@ -747,14 +714,15 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         steps_per_cycle=args.steps_per_cycle,
         cycles_per_episode=args.cycles,
         max_clipped=args.max_clipped,
+        max_touched_arc_deg=max_arc,
         space=parse_space(args.space),
     )
-    return settings
 
 
 def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     """Tune, then write the best gait to ``--output`` and the frontier figure; return the entry."""
-    args = parse_args(argv)
+    parser = make_parser()
+    args = parser.parse_args(argv)
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     key = args.key or ("acl_noroll" if args.no_roll else "acl")
     study_name = args.study_name or key
@@ -770,8 +738,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
                 raise UsageError("--policy-point", msg) from None
         prepare_study(settings, args.storage, study_name)  # bad storage fails before any trial
     except UsageError as exc:
-        print(f"acl-tune-gait: error: {exc}", file=sys.stderr)
-        raise SystemExit(2) from None
+        parser.error(str(exc))
     study = run_study(
         settings,
         args.storage,
@@ -787,13 +754,13 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
         raise SystemExit(1) from None
     write_tuned_gaits(args.output, key, entry)
-    print(yaml.safe_dump({key: _plain(entry)}, sort_keys=False), end="")
+    print(yaml.safe_dump({key: jsonable(entry)}, sort_keys=False), end="")
     if args.plot:
         plot = args.plot.format(key=key)
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
         title = (
             f"{key}: {entry['trials']} open-loop gaits, {settings.objective} "
-            f"(weights {weights or 'env default'}), {len(settings.seeds)} seeds"
+            f"(weights {weights}), {len(settings.seeds)} seeds"
         )
         plot_frontier(study, settings, plot, title, policy)
         print(f"frontier figure: {plot}")

@@ -3,6 +3,7 @@ disqualification, the tuned-gaits file, and one-line errors for bad input."""
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import subprocess
@@ -95,8 +96,16 @@ def test_rerun_resumes_the_study_and_other_settings_are_refused(
     tuning.main(tiny_args(tmp_path, "--n-trials", "3"))
     tuning.main(tiny_args(tmp_path, "--n-trials", "5"))  # two more, not five
     assert len(load(tmp_path).get_trials(states=tuning.FINISHED)) == 5
-    tuning.main(tiny_args(tmp_path, "--n-trials", "5"))  # nothing left to run
+    # Nothing left to run: the outputs are rewritten, here with a policy's point on the figure.
+    evaluation = {"controllers": {"policy": {"energy_per_m": {"mean": 900.0}}}}
+    evaluation["controllers"]["policy"]["climb_per_gait_cycle_m"] = {"mean": 0.21}
+    (tmp_path / "eval.json").write_text(json.dumps(evaluation))
+    (tmp_path / "frontier_acl.png").unlink()
+    tuning.main(
+        tiny_args(tmp_path, "--n-trials", "5", "--policy-point", str(tmp_path / "eval.json"))
+    )
     assert len(load(tmp_path).trials) == 5
+    assert (tmp_path / "frontier_acl.png").is_file()
     capsys.readouterr()
     with pytest.raises(SystemExit) as exc:
         tuning.main(tiny_args(tmp_path, "--n-trials", "6", "--reward-weights", "climb:1"))
@@ -150,6 +159,7 @@ def test_a_saturated_gait_is_disqualified_without_a_rollout(tmp_path: Path) -> N
         (["--config", "no/such/config.yml"], "--config"),
         (["--max-clipped", "2"], "--max-clipped"),
         (["--no-roll", "--max-arc", "0"], "--max-arc"),
+        (["--policy-point", "no/such/eval.json"], "--policy-point"),
     ],
 )
 def test_bad_input_is_one_line_naming_the_argument(

@@ -565,6 +565,7 @@ def plot_frontier(
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     trials = study.get_trials(deepcopy=False, states=FINISHED)
 
@@ -578,7 +579,7 @@ def plot_frontier(
         return pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 0] > 0)]
 
     complete = [t for t in trials if t.state == optuna.trial.TrialState.COMPLETE]
-    fell = [t for t in trials if t.user_attrs.get("disqualified") == "fell"]
+    measured_out = [t for t in trials if t.user_attrs.get("disqualified") in ("fell", "rolled")]
     fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
     ok = finite(complete)
     values = [t.value for t in complete if np.all(np.isfinite(point(t))) and point(t)[0] > 0]
@@ -587,9 +588,10 @@ def plot_frontier(
         fig.colorbar(sc, ax=ax, label=settings.objective)
         front = pareto_front(ok)
         ax.step(front[:, 0], front[:, 1], where="post", color="0.3", lw=1, label="frontier")
-    down = finite(fell)
-    if len(down):
-        ax.scatter(down[:, 0], down[:, 1], marker="x", s=14, color="0.6", label="fell (seeds run)")
+    out = finite(measured_out)
+    if len(out):
+        label = "disqualified: fell or rolled"
+        ax.scatter(out[:, 0], out[:, 1], marker="x", s=14, color="0.6", label=label, zorder=1)
     default = next((t for t in complete if t.user_attrs.get("default_gait")), None)
     if default is not None:
         ax.scatter(*point(default), marker="s", s=60, color="k", label="default gait", zorder=3)
@@ -598,7 +600,14 @@ def plot_frontier(
         ax.scatter(*point(best), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
     if policy is not None:
         ax.scatter(*policy, marker="^", s=90, color="tab:orange", label="policy", zorder=4)
+    hidden = len(trials) - len(ok) - len(out)
+    clip = f"{settings.max_clipped:.0%}"
+    note = f"not shown: {hidden} gaits that did not climb, or clipped over {clip} of the joints"
+    ax.text(0.99, 0.01, note, transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
     ax.set_xscale("log")
+    ax.xaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
     ax.set_xlabel("energy per metre climbed (J/m)")
     ax.set_ylabel("climb per gait cycle (m)")
     ax.set_title(title, fontsize=9)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pickle
 import warnings
+from pathlib import Path
 
 import gymnasium as gym
 import mujoco
@@ -83,10 +84,19 @@ def test_same_seed_same_rollout() -> None:
 
 
 def test_pickled_env_reproduces_reset_and_step() -> None:
+    """A pickle of an env that was reset and stepped continues exactly where the original was
+    (this episode's randomised physics, phase, RNG), then resets like it."""
     actions = np.random.default_rng(1).uniform(-1, 1, (10, 20)).astype(np.float32)
-    env = gym.make("acl_env/ACLClimb-v0", domain_randomization=True).unwrapped
+    env = gym.make(ENV_IDS[0], domain_randomization=True).unwrapped
+    env.reset(seed=7)
+    for action in actions[:4]:
+        env.step(action)
     clone = pickle.loads(pickle.dumps(env))
-    assert_same(rollout(env, 7, actions), rollout(clone, 7, actions))
+    for action in actions[4:]:
+        (obs_a, *rest_a), (obs_b, *rest_b) = env.step(action), clone.step(action)
+        np.testing.assert_array_equal(obs_a, obs_b)
+        assert rest_a == rest_b
+    assert_same(rollout(env, 8, actions), rollout(clone, 8, actions))
 
 
 def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
@@ -203,15 +213,34 @@ def test_model_has_no_unnamed_elements() -> None:
     assert model.ncam >= 2
 
 
-def test_make_vec() -> None:
-    envs = gym.make_vec("acl_env/ACLClimb-v0", num_envs=2, vectorization_mode="sync", **SHORT)
-    obs, _ = envs.reset(seed=[0, 1])
-    assert obs.shape == (2, 89)
-    assert not np.array_equal(obs[0], obs[1])
-    obs, reward, _, _, info = envs.step(np.zeros((2, 20), dtype=np.float32))
-    assert obs.shape == (2, 89) and reward.shape == (2,)
-    assert "climb" in info
-    envs.close()
+@pytest.mark.parametrize("mode", ["sync", "async"])
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_make_vec(env_id: str, mode: str) -> None:
+    """Each vector slot rolls out exactly like a single env with the same seed and actions, in
+    one process (sync) or in worker processes (async), domain randomisation included."""
+    seeds, steps = [0, 1], 8
+    kwargs = {**SHORT, "domain_randomization": True}
+    actions = np.random.default_rng(3).uniform(-1, 1, (steps, 2, 20)).astype(np.float32)
+    envs = gym.make_vec(env_id, num_envs=2, vectorization_mode=mode, **kwargs)
+    try:
+        obs, _ = envs.reset(seed=seeds)
+        assert obs.shape == (2, 89) and not np.array_equal(obs[0], obs[1])
+        vector = [(obs.copy(), None, None)]
+        for t in range(steps):
+            obs, reward, terminated, _, info = envs.step(actions[t])
+            assert obs.shape == (2, 89) and reward.shape == (2,) and not terminated.any()
+            vector.append((obs.copy(), reward.copy(), info["climb"].copy()))
+    finally:
+        envs.close()
+    for i, seed in enumerate(seeds):
+        single = gym.make(env_id, **kwargs)
+        obs, _ = single.reset(seed=seed)
+        np.testing.assert_array_equal(vector[0][0][i], obs)
+        for t in range(steps):
+            obs, reward, _, _, info = single.step(actions[t, i])
+            np.testing.assert_array_equal(vector[t + 1][0][i], obs)
+            assert vector[t + 1][1][i] == reward and vector[t + 1][2][i] == info["climb"]
+        single.close()
 
 
 def test_domain_randomization_varies_physics_deterministically() -> None:
@@ -241,7 +270,10 @@ def test_weak_springs_fall_off_and_terminate() -> None:
     assert terminated and info["fell"] and not info["unstable"]
 
 
-def test_unstable_physics_terminates_without_crash() -> None:
+def test_unstable_physics_terminates_without_crash(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes the warning to MUJOCO_LOG.TXT in the cwd
     env = ACLClimbEnv()
     env.reset(seed=0)
     env.model.opt.timestep = 5.0  # guaranteed divergence

@@ -5,6 +5,7 @@ ranges: inside them the env builds, resets and steps with finite output; outside
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -50,6 +51,15 @@ PROPERTY = settings(
 )
 FAST_REJECT = settings(PROPERTY, max_examples=300)
 CAMERAS = ("track", "side", "top")
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _mujoco_log_in_tmp(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """MuJoCo appends warnings (extreme but accepted physics) to MUJOCO_LOG.TXT in the cwd."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.chdir(tmp_path_factory.mktemp("mujoco_log"))
+        yield
+
 
 # --- the helpers ---------------------------------------------------------------------------------
 

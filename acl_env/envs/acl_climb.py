@@ -362,6 +362,29 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
         self._com_start = 0.0
 
+    # -- copies -------------------------------------------------------------------------------
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The constructor's arguments (EzPickle) plus the episode: the simulation data, with the
+        model as this episode's randomisation left it, and the env's counters and RNG.
+
+        A copy taken mid-episode (pickle, ``copy.deepcopy``) continues exactly where the original
+        was: the same actions give the same observations, rewards, infos and later resets.
+        """
+        episode = {k: v for k, v in self.__dict__.items() if k not in _NOT_COPIED}
+        return {**EzPickle.__getstate__(self), "episode": episode, "data": self.data}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        state = dict(state)
+        episode, data = state.pop("episode", None), state.pop("data", None)
+        EzPickle.__setstate__(self, state)  # a fresh env from the constructor's arguments
+        if episode is None or data is None:
+            return
+        self.__dict__.update(episode)
+        # MjData pickles with its model: both replace the fresh ones, in the renderer too.
+        self.model, self.data = data.model, data
+        self.mujoco_renderer.model, self.mujoco_renderer.data = self.model, self.data
+
     # -- construction -------------------------------------------------------------------------
 
     def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -585,6 +608,11 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
     def _get_reset_info(self) -> dict[str, Any]:
         return {"com_height": float(self._com()[2]), "phase": self._keyframe / self.steps_per_cycle}
+
+
+# Not in a copy's episode state: the simulation travels as MjData (with its model), the renderer
+# is the fresh env's (pointed at the copied data), the constructor's arguments are EzPickle's.
+_NOT_COPIED = ("model", "data", "mujoco_renderer", "_ezpickle_args", "_ezpickle_kwargs")
 
 
 def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:

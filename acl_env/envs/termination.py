@@ -10,7 +10,8 @@ def unstable(data: mujoco.MjData, warnings_before: int, time_before: float) -> b
     """A MuJoCo warning was raised during the step, MuJoCo reset the diverged state (its time
     went back to 0), or the state is not finite."""
     diverged = warning_count(data) > warnings_before or data.time <= time_before
-    return diverged or not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel)))
+    finite = bool(np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel)))
+    return diverged or not finite
 
 
 def warning_count(data: mujoco.MjData) -> int:
@@ -27,4 +28,4 @@ def fell(
 ) -> bool:
     """The centre of mass dropped ``fall_distance`` below its start, a shell touched the floor,
     or no shell touched the pole during the step."""
-    return com_height < com_start - fall_distance or touched_floor or not touched_pole
+    return bool(com_height < com_start - fall_distance or touched_floor or not touched_pole)

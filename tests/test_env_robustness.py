@@ -1,0 +1,147 @@
+"""Plain ``info`` values on every outcome, and copies (pickle, deepcopy) taken mid-episode that
+continue exactly where the original was. Vector envs and the pickle of a stepped env are checked
+in tests/test_env.py."""
+
+from __future__ import annotations
+
+import copy
+import json
+import pickle
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.envs import ACLClimbEnv
+
+SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}
+PLAIN = (bool, int, float, str)
+
+
+@pytest.fixture(autouse=True)
+def _mujoco_log_in_tmp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """MuJoCo appends its warnings to MUJOCO_LOG.TXT in the working folder: keep it in tmp."""
+    monkeypatch.chdir(tmp_path)
+
+
+def assert_plain(info: dict[str, Any]) -> None:
+    """Every value a plain Python scalar (not a NumPy one), and the whole dict JSON-ready."""
+    for key, value in info.items():
+        assert type(value) in PLAIN, f"info[{key!r}] is {type(value).__name__}"
+    json.dumps(info)
+
+
+def step_until(env: ACLClimbEnv, stop: Callable[[dict[str, Any]], bool], limit: int) -> tuple:
+    for _ in range(limit):
+        out = env.step(np.zeros(env.action_space.shape))
+        if stop(out[4]) or out[2] or out[3]:
+            return out
+    raise AssertionError(f"no stop within {limit} steps")
+
+
+def test_info_is_plain_python_on_steps_falls_and_instabilities() -> None:
+    env = ACLClimbEnv(kp=2.0)  # weak springs: the snake slides off (docs/robot_and_contact.md)
+    _, info = env.reset(seed=0)
+    assert_plain(info)
+    _, reward, terminated, truncated, info = env.step(np.zeros(20))
+    assert_plain(info)
+    assert type(reward) is float and type(terminated) is bool and type(truncated) is bool
+    _, reward, terminated, truncated, info = step_until(env, lambda i: i["fell"], 200)
+    assert info["fell"] is True and terminated is True
+    assert_plain(info)
+    assert type(reward) is float and type(truncated) is bool
+
+    env = ACLClimbEnv()
+    env.reset(seed=0)
+    env.model.opt.timestep = 5.0  # guaranteed divergence
+    _, reward, terminated, truncated, info = env.step(np.ones(20))
+    assert info["unstable"] is True and terminated is True
+    assert_plain(info)
+    assert type(reward) is float
+
+
+def test_truncation_info_is_plain() -> None:
+    env = ACLClimbEnv(**SHORT)
+    env.reset(seed=0)
+    _, _, terminated, truncated, info = step_until(env, lambda i: False, 25)
+    assert truncated is True and terminated is False
+    assert_plain(info)
+
+
+COPIES: dict[str, Callable[[Any], Any]] = {
+    "pickle": lambda env: pickle.loads(pickle.dumps(env)),
+    "deepcopy": copy.deepcopy,
+}
+CONFIGS = {
+    "plain": {},
+    "randomized": {
+        "domain_randomization": True,
+        "phase_rate_range": (0.5, 1.5),
+        "privileged_obs": True,
+        "base_gait": "rolling_helix",
+    },
+}
+
+
+def run(env: gym.Env, actions: np.ndarray) -> list[tuple]:
+    out = []
+    for action in actions:
+        obs, reward, terminated, truncated, info = env.step(action)
+        out.append((obs.copy(), reward, terminated, truncated, info))
+        if terminated or truncated:
+            break
+    return out
+
+
+def assert_same_steps(a: list[tuple], b: list[tuple]) -> None:
+    assert len(a) == len(b)
+    for (obs_a, *rest_a), (obs_b, *rest_b) in zip(a, b, strict=True):
+        np.testing.assert_array_equal(obs_a, obs_b)
+        assert rest_a == rest_b
+
+
+@pytest.mark.parametrize("config", sorted(CONFIGS))
+@pytest.mark.parametrize("how", sorted(COPIES))
+def test_copy_mid_episode_continues_exactly(how: str, config: str) -> None:
+    """A copy taken after reset and steps continues bit-identically: physics (with this
+    episode's randomised pole, friction, gains, masses), gait phase, counters and noise RNG."""
+    env = ACLClimbEnv(**SHORT, **CONFIGS[config])
+    rng = np.random.default_rng(5)
+    actions = rng.uniform(-1, 1, (30, *env.action_space.shape)).astype(np.float32)
+    env.reset(seed=11)
+    run(env, actions[:6])
+    clone = COPIES[how](env)
+    assert clone is not env and clone.data is not env.data and clone.model is not env.model
+    assert clone.mujoco_renderer.data is clone.data
+    # The copy and the original step on independently, to the same results.
+    tail_original = run(env, actions[6:])
+    tail_clone = run(clone, actions[6:])
+    assert len(tail_original) == SHORT["steps_per_cycle"] - 6  # ran to truncation
+    assert_same_steps(tail_original, tail_clone)
+    # Their RNGs are in the same state too: the next unseeded resets agree.
+    obs_a, info_a = env.reset()
+    obs_b, info_b = clone.reset()
+    np.testing.assert_array_equal(obs_a, obs_b)
+    assert info_a == info_b
+
+
+def test_copy_of_a_fresh_env_behaves_as_a_fresh_env() -> None:
+    env = ACLClimbEnv(**SHORT, domain_randomization=True)
+    clone = pickle.loads(pickle.dumps(env))
+    actions = np.random.default_rng(1).uniform(-1, 1, (8, 20)).astype(np.float32)
+    env.reset(seed=3)
+    clone.reset(seed=3)
+    assert_same_steps(run(env, actions), run(clone, actions))
+
+
+def test_copy_through_gym_make_wrappers() -> None:
+    env = gym.make(ACL_CLIMB_ID, **SHORT)
+    actions = np.random.default_rng(2).uniform(-1, 1, (12, 20)).astype(np.float32)
+    env.reset(seed=4)
+    run(env, actions[:3])
+    clone = copy.deepcopy(env)
+    assert_same_steps(run(env, actions[3:]), run(clone, actions[3:]))

@@ -1,56 +1,77 @@
 """Watch the snake climb: ``python -m acl_env [--gait acl] [--video FILE | --snapshot FILE]``.
 
-Plays the open-loop gait (zero residual) and prints the climb per cycle. Without ``--video`` or
-``--snapshot`` it opens MuJoCo's interactive viewer (needs a display); headless machines write
-an mp4 or a PNG instead (``MUJOCO_GL=egl``).
+Plays the open-loop gait (zero residual) through :func:`acl_env.evaluation.run_episode` and prints
+its metrics. Without ``--video`` or ``--snapshot`` it opens MuJoCo's interactive viewer (needs a
+display); headless machines write an mp4 or a PNG instead (``MUJOCO_GL=egl``).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
-import acl_env  # noqa: F401  (registers the ids)
-from acl_env.model import SIDE_CAMERA, TRACK_CAMERA
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.constants import SIDE_CAMERA, TRACK_CAMERA
+from acl_env.evaluation import run_episode, zero_policy
 
-ENV_IDS = {"acl": "acl_env/ACLClimb-v0", "rolling_helix": "acl_env/RollingHelixClimb-v0"}
+ENV_IDS = {"acl": ACL_CLIMB_ID, "rolling_helix": ROLLING_HELIX_CLIMB_ID}
+NON_ROLLING = {"gait_kwargs": {"rolls_per_cycle": 0}}
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description="Play the open-loop climbing gait.")
     parser.add_argument("--gait", choices=sorted(ENV_IDS), default="acl")
-    parser.add_argument("--cycles", type=int, default=2, help="gait cycles to play")
+    parser.add_argument("--no-roll", action="store_true", help="ACL without its body roll")
+    parser.add_argument("--cycles", type=int, default=2, help="gait cycles to play (1 to 8)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--video", help="write an mp4 (headless) instead of opening a viewer")
     parser.add_argument("--snapshot", help="write a PNG of both cameras after a quarter cycle")
     args = parser.parse_args(argv)
+    if not 1 <= args.cycles <= 8:
+        parser.error(f"--cycles must be an integer from 1 to 8, got {args.cycles}")
+    if args.no_roll and args.gait != "acl":
+        parser.error("--no-roll applies to --gait acl only")
+    for option, path in (("--video", args.video), ("--snapshot", args.snapshot)):
+        if path and not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+            parser.error(f"{option}: the folder of {path!r} does not exist")
     headless = bool(args.video or args.snapshot)
     if headless:
-        os.environ.setdefault("MUJOCO_GL", "egl")
+        os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is first imported (make)
     env = gym.make(
         ENV_IDS[args.gait],
         cycles_per_episode=args.cycles,
         render_mode="rgb_array" if headless else "human",
+        **(NON_ROLLING if args.no_roll else {}),
     )
-    env.reset(seed=args.seed)
     steps = env.unwrapped.steps_per_cycle * args.cycles
-    action = np.zeros(env.action_space.shape, dtype=np.float32)
-    frames, climb, slip = [], 0.0, 0.0
-    for k in tqdm(range(steps), desc=f"open-loop {args.gait}", unit="step"):
-        _, _, terminated, truncated, info = env.step(action)
-        climb, slip = climb + info["climb"], slip + info["slip"]
+    snapshot_step = steps // (4 * args.cycles) + 1  # steps played at the snapshot
+    frames: list[np.ndarray] = []
+    bar = tqdm(total=steps, desc=f"open-loop {args.gait}", unit="step")
+
+    def show(
+        env: gym.Env, obs: np.ndarray, action: np.ndarray | None, info: dict[str, Any]
+    ) -> None:
+        if action is None:
+            return
+        bar.update()
         if args.video:
             frames.append(env.render())
-        if args.snapshot and k == steps // (4 * args.cycles):
+        if args.snapshot and bar.n == snapshot_step:
             _write_snapshot(env, args.snapshot)
-        if terminated or truncated:
-            break
-    cycles = (k + 1) / env.unwrapped.steps_per_cycle
-    print(f"{args.gait}: climb {climb / cycles:.3f} m/cycle, slip {slip / cycles:.3f} m/cycle")
+
+    episode = run_episode(env, zero_policy(env), args.seed, show)
+    bar.close()
+    m = episode.metrics()
+    print(
+        f"{args.gait}{' (no roll)' if args.no_roll else ''}: climb {m['climb_per_cycle_m']:.3f} "
+        f"m/cycle, slip {m['slip_per_cycle_m']:.3f} m/cycle, {m['energy_per_m']:.0f} J/m, "
+        f"touched arc {m['touched_arc_deg']:.0f} deg{', fell' if episode.fell else ''}"
+    )
     if args.video:
         import imageio
 
@@ -69,6 +90,7 @@ def _write_snapshot(env: gym.Env, path: str) -> None:
     side = env.render()
     renderer.camera_id = env.unwrapped.model.camera(TRACK_CAMERA).id
     imageio.imwrite(path, np.concatenate([track, side], axis=1))
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 
 Table 1: eight ACL parameter settings; for each, the displacement over two cycles estimated by
 Eq. 6 from the commanded gait's kinematics (:func:`acl_env.estimation.estimate_displacement`)
-and the simulated one (centre-of-mass rise over a zero-action rollout of ``acl_env/ACLClimb-v0``,
+and the simulated one (centre-of-mass rise over a zero-action rollout of the ACL climbing env,
 the sum of ``info["climb"]``), with the paper's own row beside. MuJoCo plays the robot.
 
 Table 2: rolling helix against ACL (default parameters), ``--trials`` rollouts each with different
@@ -39,8 +39,10 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
-ACL_ID = "acl_env/ACLClimb-v0"
-HELIX_ID = "acl_env/RollingHelixClimb-v0"
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+
+ACL_ID = ACL_CLIMB_ID
+HELIX_ID = ROLLING_HELIX_CLIMB_ID
 CYCLES = 2
 POLE = (np.zeros(3), np.array([0.0, 0.0, 1.0]))  # the scene's pole: world z through the origin
 
@@ -110,8 +112,8 @@ def run_rollout(job: Rollout) -> Rollout:
 
     import acl_env  # noqa: F401  (registers the environments)
     from acl_env.estimation import estimate_from_frames, estimate_gait_cycle
+    from acl_env.evaluation import PoleContacts, run_episode, zero_policy
     from acl_env.gait.kinematics import count_body_rolls
-    from acl_env.model import POLE_GEOM, link_name, shell_name
 
     env = gymnasium.make(
         job.env_id,
@@ -120,49 +122,35 @@ def run_rollout(job: Rollout) -> Rollout:
         domain_randomization=job.randomize_physics or None,
     )
     base = env.unwrapped
-    model, data = base.model, base.data
-    n = base.n_joints
-    links = np.array([model.body(link_name(k)).id for k in range(n + 1)])
-    bodies = links[1:]  # the frame of link k sits at joint k - 1
-    geom_link = np.full(model.ngeom, -1)  # module index of each shell geom, -1 for the rest
-    for k in range(n + 1):
-        geom_link[model.geom(shell_name(k)).id] = k
-    pole_geom = model.geom(POLE_GEOM).id
+    data = base.data
+    contacts = PoleContacts(env)
+    bodies = contacts.bodies[1:]  # the frame of link k sits at joint k - 1
+    frames, angles, touching, drift = [], [], [], []
+    # The pole contacts of the last step: module, point in the module's frame, point in the world.
+    anchors = [(np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3)))]
 
-    _, info = env.reset(seed=job.seed)
-    gait = base.gait  # after the reset: domain randomisation rebuilds it for the drawn pole
-    frames, angles, touching = [data.xpos[bodies].copy()], [data.qpos[7:].copy()], []
-    action = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)
-    # The pole contacts of the last step: link, point in the link's frame, point in the world.
-    anchors = (np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3)))
-    drift = []
-    done = False
-    while not done:
-        _, _, terminated, truncated, info = env.step(action)
-        if len(anchors[0]):  # where the material points that touched at the last step went
-            k, local, world = anchors
-            moved = data.xpos[links[k]] + np.einsum("kij,kj->ki", _rot(data, links[k]), local)
-            drift.append(np.mean(moved[:, 2] - world[:, 2]))
-        done = terminated or truncated
-        job.steps += 1
-        job.simulated_cm += 100.0 * info["climb"]
-        job.slip_cm += 100.0 * info["slip"]
-        job.fell |= bool(info["fell"])
-        job.unstable |= bool(info["unstable"])
+    def record(env: Any, obs: np.ndarray, action: np.ndarray | None, info: dict) -> None:
         frames.append(data.xpos[bodies].copy())
         angles.append(data.qpos[7:].copy())
-        geoms = data.contact.geom[: data.ncon]
-        other = np.where(geoms[:, 0] == pole_geom, geoms[:, 1], geoms[:, 0])
-        on_pole = (geoms == pole_geom).any(axis=1) & (geom_link[other] >= 0)
-        k = geom_link[other[on_pole]]
-        world = data.contact.pos[: data.ncon][on_pole].copy()
-        local = np.einsum("kji,kj->ki", _rot(data, links[k]), world - data.xpos[links[k]])
-        anchors = (k, local, world)
-        touched = np.zeros(n + 1, dtype=bool)
-        touched[k] = True
+        if action is None:  # the reset
+            return
+        k, local, world = anchors[0]
+        if len(k):  # where the material points that touched at the last step went
+            moved = contacts.positions(k) + np.einsum("kij,kj->ki", contacts.rotations(k), local)
+            drift.append(np.mean(moved[:, 2] - world[:, 2]))
+        anchors[0] = contacts()
+        touched = np.zeros(contacts.n_modules, dtype=bool)
+        touched[anchors[0][0]] = True
         touching.append(touched)
-    job.anchor_drift_cm = 100.0 * float(np.sum(drift))
+
+    episode = run_episode(env, zero_policy(env), job.seed, record)
+    gait = base.gait  # drawn at the reset: domain randomisation rebuilds it for the drawn pole
     env.close()
+    job.steps = episode.steps
+    job.simulated_cm = 100.0 * episode.climb
+    job.slip_cm = 100.0 * episode.slip
+    job.fell, job.unstable = episode.fell, episode.unstable
+    job.anchor_drift_cm = 100.0 * float(np.sum(drift))
 
     job.settings = gait_settings(gait) if hasattr(gait, "curve") else {}
     estimate = estimate_gait_cycle(gait)
@@ -177,16 +165,11 @@ def run_rollout(job: Rollout) -> Rollout:
     touch = np.array(touching)
     job.links_touching = float(touch.sum(axis=1).mean())
     # Joint j joins links j and j + 1; the contacts of step t are those identified at frame t.
-    contacts = measured.contacts[:-1]
-    rows = np.arange(len(contacts))[:, None]
-    hit = touch[rows, contacts] | touch[rows, contacts + 1]
+    contacts_eq6 = measured.contacts[:-1]
+    rows = np.arange(len(contacts_eq6))[:, None]
+    hit = touch[rows, contacts_eq6] | touch[rows, contacts_eq6 + 1]
     job.contact_hit_pct = float(100.0 * hit.mean())
     return job
-
-
-def _rot(data: Any, bodies: np.ndarray) -> np.ndarray:
-    """World rotation matrices of ``bodies``, shape ``(len(bodies), 3, 3)``."""
-    return data.xmat[bodies].reshape(-1, 3, 3)
 
 
 def run_all(jobs: list[Rollout], workers: int) -> list[Rollout]:

@@ -1,73 +1,71 @@
 """Is the policy no worse than open loop across the randomisation range? Pole radius x friction.
 
-``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--json PATH]`` runs
-``train/evaluate.py`` (same seeds for every controller) at the corners and centre of the training
-ranges of pole radius and friction and prints climb and slip per cycle and falls per controller.
+``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--json PATH]`` evaluates
+the controllers of ``train/evaluate.py`` (:mod:`acl_env.training.evaluate`: the policy, open-loop
+ACL, at the policy's cadence, rolling helix, tuned gait; same seeds for all) at the corners and
+centre of the training ranges of pole radius and friction, and prints the climb per cycle, slip
+per cycle and falls of each.
 """
 
 from __future__ import annotations
 
 import argparse
-import contextlib
-import io
 import itertools
 import json
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "train"))
-import evaluate  # train/ is a script folder, not a package
+from acl_env.evaluation import summarize
+from acl_env.training.evaluate import (
+    DEFAULT_POLICY,
+    DEFAULT_TUNED_GAITS,
+    build_controllers,
+    evaluate,
+)
+from acl_env.training.policy import read_policy_folder
 
 POLE_RADII = (0.065, 0.075, 0.09)
 FRICTIONS = (0.7, 1.0, 1.2)
-CONTROLLERS = ("policy", "open_loop_acl", "open_loop_rolling_helix")
+COLUMNS = ("climb_per_cycle_m", "slip_per_cycle_m")
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--policy", default=str(evaluate.DEFAULT_POLICY))
+    parser.add_argument("--policy", default=str(DEFAULT_POLICY))
     parser.add_argument("--episodes", type=int, default=5)
+    parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", help="write the rows to this JSON file")
     args = parser.parse_args(argv)
+    folder = read_policy_folder(args.policy)
+    seeds = list(range(args.episodes))
     rows = []
     for radius, friction in itertools.product(POLE_RADII, FRICTIONS):
-        with contextlib.redirect_stdout(io.StringIO()):  # evaluate prints its own table
-            doc = evaluate.main(
-                [
-                    "--policy",
-                    args.policy,
-                    "--episodes",
-                    str(args.episodes),
-                    "--no-progress-bar",
-                    "--env-kwargs",
-                    f"pole_radius:{radius}",
-                    f"friction:{friction}",
-                ]
-            )
-        row = {"pole_radius": radius, "friction": friction}
-        for name in CONTROLLERS:
-            summary = doc["controllers"][name]
-            row[name] = {
-                "climb_per_cycle_m": summary["climb_per_cycle_m"]["mean"],
-                "slip_per_cycle_m": summary["slip_per_cycle_m"]["mean"],
-                "falls": summary["falls"]["count"],
-            }
+        overrides = {"pole_radius": radius, "friction": friction}
+        controllers, notes = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
+        results = evaluate(controllers, seeds, args.workers, progress=False)
+        row: dict = {"pole_radius": radius, "friction": friction}
+        for name, episodes in results.items():
+            summary = summarize(episodes)
+            row[name] = {column: summary[column]["mean"] for column in COLUMNS}
+            row[name]["falls"] = summary["falls"]["count"]
+        if not rows:
+            names = list(results)
+            print("\n".join(note for note in notes if "skipped" in note))
+            print("| pole radius (m) | friction | " + " | ".join(names) + " |")
+            print("|---" * (2 + len(names)) + "|")
         rows.append(row)
-        print(_format(row), flush=True)
+        print(_format(row, names), flush=True)
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=2) + "\n")
     return rows
 
 
-def _format(row: dict) -> str:
+def _format(row: dict, names: list[str]) -> str:
     cells = [f"| {row['pole_radius']:.3f} | {row['friction']:.1f}"]
-    for name in CONTROLLERS:
+    for name in names:
         r = row[name]
         cells.append(f"{r['climb_per_cycle_m']:.3f} / {r['slip_per_cycle_m']:.3f} / {r['falls']}")
     return " | ".join(cells) + " |"
 
 
 if __name__ == "__main__":
-    print("| pole radius (m) | friction | policy | open-loop ACL | open-loop rolling helix |")
-    print("|---|---|---|---|---|")
     main()

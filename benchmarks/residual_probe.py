@@ -11,18 +11,14 @@ cadence changes (the PMTG option), for comparison.
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
 from acl_env.envs import ACLClimbEnv
+from acl_env.evaluation import run_episode
 from acl_env.gait import ACLGait
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "train"))
-import evaluate  # train/ is a script folder, not a package
 
 Residual = Callable[[int, np.ndarray], np.ndarray]  # (keyframe, base target) -> residual, rad
 
@@ -37,7 +33,7 @@ def climb_and_slip(
         action = np.clip(residual(keyframe, base) / env.residual_scale, -1.0, 1.0)
         return action if rate_action is None else np.append(action, rate_action)
 
-    runs = [evaluate.run_episode(env, act, seed).metrics() for seed in range(seeds)]
+    runs = [run_episode(env, act, seed).metrics() for seed in range(seeds)]
     climb = np.mean([m["climb_per_cycle_m"] for m in runs])
     slip = np.mean([m["slip_per_cycle_m"] for m in runs])
     return float(climb), float(slip)

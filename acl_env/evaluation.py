@@ -346,15 +346,16 @@ TABLE_ROWS = (
     ("slip_per_cycle_m", "slip per nominal cycle (m)", ".4f"),
     ("slip_per_m", "slip per metre climbed", ".3f"),
     ("energy_per_m", "energy (J/m)", ".0f"),
-    ("mean_abs_torque_nm", "mean |torque| (N m)", ".3f"),
-    ("torque_limit_fraction", "at torque limit", ".4f"),
+    ("mean_abs_torque_nm", "mean abs torque (N m)", ".3f"),
+    ("torque_limit_fraction", "share at torque limit", ".4f"),
     ("touched_arc_deg", "touched arc (deg)", ".0f"),
     ("reward_per_gait_cycle", "reward per gait cycle", ".4f"),
 )
 
 
-def format_table(summaries: dict[str, dict[str, Any]]) -> str:
-    """Plain-text table, one column per controller: mean ± 95 % CI half-width per metric."""
+def format_table(summaries: dict[str, dict[str, Any]], markdown: bool = False) -> str:
+    """One column per controller, mean ± 95 % CI half-width per metric: aligned plain text, or a
+    Markdown table (``markdown``) for the README."""
     names = list(summaries)
     rows = [["metric", *names]]
     for metric, label, fmt in TABLE_ROWS:
@@ -366,6 +367,12 @@ def format_table(summaries: dict[str, dict[str, Any]]) -> str:
     values = summaries.values()
     rows.append(["falls", *(f"{s['falls']['count']}/{s['episodes']}" for s in values)])
     rows.append(["gait keyframes per step", *(f"{s['mean_phase_rate']:.3f}" for s in values)])
+    n = next(iter(summaries.values()))["episodes"] if summaries else 0
+    caption = f"mean ± 95 % CI half-width (Student's t, {n} episodes)"
+    if markdown:
+        lines = ["| " + " | ".join(row) + " |" for row in rows]
+        lines.insert(1, "|---" * len(rows[0]) + "|")
+        return "\n".join([*lines, "", caption])
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
     lines = []
     for row in rows:
@@ -374,9 +381,7 @@ def format_table(summaries: dict[str, dict[str, Any]]) -> str:
         ]
         lines.append("  ".join(cells))
     lines.insert(1, "-" * len(lines[0]))
-    n = next(iter(summaries.values()))["episodes"] if summaries else 0
-    lines.append(f"mean ± 95 % CI half-width (Student's t, {n} episodes)")
-    return "\n".join(lines)
+    return "\n".join([*lines, caption])
 
 
 def jsonable(value: Any) -> Any:

@@ -20,6 +20,7 @@ from acl_env.training.evaluate import (
     DEFAULT_TUNED_GAITS,
     build_controllers,
     evaluate,
+    make_pool,
 )
 from acl_env.training.policy import read_policy_folder
 
@@ -38,10 +39,11 @@ def main(argv: list[str] | None = None) -> list[dict]:
     folder = read_policy_folder(args.policy)
     seeds = list(range(args.episodes))
     rows = []
+    pool = make_pool(args.workers)  # one set of workers for every cell
     for radius, friction in itertools.product(POLE_RADII, FRICTIONS):
         overrides = {"pole_radius": radius, "friction": friction}
         controllers, notes = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
-        results = evaluate(controllers, seeds, args.workers, progress=False)
+        results = evaluate(controllers, seeds, progress=False, pool=pool)
         row: dict = {"pole_radius": radius, "friction": friction}
         for name, episodes in results.items():
             summary = summarize(episodes)
@@ -54,6 +56,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
             print("|---" * (2 + len(names)) + "|")
         rows.append(row)
         print(_format(row, names), flush=True)
+    if pool is not None:
+        pool.shutdown()
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=2) + "\n")
     return rows

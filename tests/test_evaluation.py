@@ -267,6 +267,10 @@ def test_evaluation_writes_every_metric_and_controller(policy_folder: Path, tmp_
     rate = summaries["policy"]["mean_phase_rate"]
     assert summaries["open_loop_acl_same_cadence"]["mean_phase_rate"] == pytest.approx(rate)
     assert summaries["open_loop_acl"]["mean_phase_rate"] == 1.0
+    table = evaluation.format_table(summaries, markdown=True).splitlines()
+    assert table[0] == "| metric | " + " | ".join(summaries) + " |"
+    assert len(table) == 2 + len(evaluation.METRICS) + 1 + 2  # + keyframes row, blank, caption
+    assert {line.count("|") for line in table[:-2]} == {len(summaries) + 2}
 
 
 def test_the_shipped_policy_gets_every_metric_and_controller(tmp_path: Path) -> None:

@@ -141,21 +141,31 @@ def run_controllers(
     return {c.name: [results[c.name, s] for s in seeds] for c in controllers}
 
 
+def make_pool(workers: int) -> Executor | None:
+    """Worker processes for :func:`evaluate` (None: run in this process). Spawned, not forked:
+    the parent may have loaded torch, which a forked child can deadlock on."""
+    if workers <= 1:
+        return None
+    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+
+
 def evaluate(
     controllers: Sequence[Controller],
     seeds: Sequence[int],
     workers: int = 2,
     gym_packages: Sequence[str] = (),
     progress: bool = True,
+    pool: Executor | None = None,
 ) -> dict[str, list[Episode]]:
-    """Run the controllers; the same-cadence open loop runs last, at the policy's mean rate."""
+    """Run the controllers; the same-cadence open loop runs last, at the policy's mean rate.
+
+    Episodes run in ``pool`` when given (reused across calls), else in ``workers`` processes.
+    """
     first = [c for c in controllers if c.name != SAME_CADENCE]
     later = [c for c in controllers if c.name == SAME_CADENCE]
-    pool = None
-    if workers > 1:
-        # spawn: the parent has loaded torch, which a forked child can deadlock on.
-        context = multiprocessing.get_context("spawn")
-        pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    own_pool = pool is None
+    if own_pool:
+        pool = make_pool(workers)
     try:
         results = run_controllers(first, seeds, pool, gym_packages, progress)
         if later:
@@ -164,10 +174,9 @@ def evaluate(
             later = [replace(c, phase_rate=float(rate)) for c in later]
             results |= run_controllers(later, seeds, pool, gym_packages, progress)
     finally:
-        if pool is not None:
+        if own_pool and pool is not None:
             pool.shutdown()
-    order = [c.name for c in controllers]
-    return {name: results[name] for name in order}
+    return {c.name: results[c.name] for c in controllers}
 
 
 # --- which controllers ---------------------------------------------------------------------------
@@ -351,6 +360,9 @@ def make_parser() -> cli.ArgumentParser:
         default=[],
         help="modules registering envs",
     )
+    parser.add_argument(
+        "--markdown", action="store_true", help="print the table in Markdown (for the README)"
+    )
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
 
@@ -421,7 +433,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     }
     if SAME_CADENCE in results:
         document["same_cadence_phase_rate"] = summaries["policy"]["mean_phase_rate"]
-    print(format_table(summaries))
+    print(format_table(summaries, markdown=args.markdown))
     for note in notes:
         print(note)
     if args.json:

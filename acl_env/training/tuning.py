@@ -12,6 +12,11 @@ attribute ``disqualified``); so is, with ``--no-roll``, a gait that touches the 
 rolled out and measured by :mod:`acl_env.evaluation` (``run_episode``, ``Episode.metrics``), and
 every trial stores those metrics (mean over its seeds) as user attributes.
 
+With a few seeds per trial the study's best is partly luck, and good gaits sit near a cliff where
+the grip gives way; so the ``--validate-top`` best trials (and the default gait) are measured
+again on ``--validate-seeds`` new seeds, and the tuned gait is the best of them on those seeds
+among the ones that did not fall (nor, with ``--no-roll``, roll) there.
+
 Parallel and resumable as rl_zoo3's ``--optimize --storage``: the study lives in a database
 (SQLite file by default, any SQLAlchemy URL Optuna accepts), ``--n-jobs`` worker processes share
 it, and so can other processes or machines pointed at the same URL. ``--n-trials`` is the study's
@@ -32,12 +37,19 @@ Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per ke
       steps_per_cycle: 220
       cycles_per_episode: 2
       trials: 300                      # finished trials (complete + disqualified)
-      best_trial: 123
+      best_trial: 123                  # the chosen trial (after validation)
       study: acl
       metrics: {climb_per_gait_cycle_m: .., slip_per_m: .., energy_per_m: ..,
                 reward_per_gait_cycle: .., falls: 0.0, ...}  # acl_env.evaluation.METRICS of
-                                       # the best gait, mean over the seeds
+                                       # the tuned gait, mean over the tuning seeds
+      validation:                      # the same on new seeds (absent with --validate-seeds 0)
+        seeds: [3, 4, ..., 12]
+        fell: false
+        candidates: 5                  # best trials re-measured, the tuned gait the best of them
+        metrics: {...}                 # mean over the validation seeds
+        ci95_half_width: {...}         # Student's t, over the validation seeds
       default_gait_metrics: {...}      # the untuned gait, same protocol (the study's trial 0)
+      default_gait_validation: {...}   # and on the validation seeds
 
     acl-tune-gait --n-trials 300                  # rolling ACL, training reward weights
     acl-tune-gait --no-roll --n-trials 300        # non-rolling ACL, key acl_noroll
@@ -149,8 +161,10 @@ HEADER = """\
 #   objective              the metric optimised, under reward_weights (the env's weights)
 #   seeds, steps_per_cycle, cycles_per_episode   each trial's episodes (reset seeds)
 #   trials, best_trial, study   finished trials of the Optuna study, the best one, its name
-#   metrics                the best gait's metrics (acl_env.evaluation), mean over the seeds
-#   default_gait_metrics   the untuned default gait under the same protocol
+#   metrics                the tuned gait's metrics (acl_env.evaluation), mean over the seeds
+#   validation             the same on new seeds (the best few trials were re-measured there and
+#                          the tuned gait is the best of them that neither fell nor rolled)
+#   default_gait_metrics, default_gait_validation   the untuned default gait, same protocol
 """
 
 
@@ -289,6 +303,17 @@ def open_storage(storage: str) -> optuna.storages.RDBStorage:
 # --- the objective --------------------------------------------------------------------------------
 
 
+def rollout(env: gymnasium.Env, seeds: Sequence[int]) -> list[dict[str, float]]:
+    """Per-episode metrics of the open-loop gait (zero action) on ``seeds``, in order, stopping
+    after the first fall (a fall disqualifies the gait anyway)."""
+    episodes = []
+    for seed in seeds:
+        episodes.append(run_episode(env, zero_policy(env), seed).metrics())
+        if episodes[-1]["falls"]:
+            break
+    return episodes
+
+
 def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict[str, float]:
     """The trial's gait parameters from the search space."""
     params: dict[str, float] = {}
@@ -315,12 +340,7 @@ def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
             if saturation.sample_fraction > settings.max_clipped:
                 trial.set_user_attr("disqualified", "saturated")
                 raise optuna.TrialPruned(f"joint limit clips {saturation.sample_fraction:.0%}")
-            episodes = []
-            for step, seed in enumerate(settings.seeds):
-                episodes.append(run_episode(env, zero_policy(env), seed).metrics())
-                trial.report(episodes[-1][settings.objective], step)
-                if episodes[-1]["falls"]:
-                    break
+            episodes = rollout(env, settings.seeds)
         finally:
             env.close()
         metrics = {m: mean_ci95(e[m] for e in episodes)["mean"] for m in METRICS}
@@ -488,15 +508,83 @@ def _best_text(study: optuna.Study) -> str:
 # --- outputs --------------------------------------------------------------------------------------
 
 
-def tuned_entry(study: optuna.Study, settings: TuneSettings) -> dict[str, Any]:
-    """The YAML entry for the study's best trial (see the module docstring for the format)."""
+def validation_seeds(settings: TuneSettings, n_seeds: int) -> list[int]:
+    """Seeds after the largest tuning seed: episodes the search never saw."""
+    return [max(settings.seeds) + 1 + i for i in range(n_seeds)]
+
+
+def validate(
+    study: optuna.Study, settings: TuneSettings, top_k: int, n_seeds: int
+) -> tuple[optuna.trial.FrozenTrial, dict[int, dict[str, Any]]]:
+    """Re-measure the ``top_k`` best trials (and the default gait) on ``n_seeds`` new seeds and
+    pick the best on those seeds among the ones that neither fell nor rolled there.
+
+    With a few seeds per trial the study's best is partly luck (and may sit next to a cliff); the
+    pick is the gait that holds up on episodes the search never saw. Results are cached in the
+    study's user attributes (``validation_<trial>``), so a rerun does not repeat them. Without
+    validation (``n_seeds`` 0) the pick is the study's best trial.
+    """
     try:
         best = study.best_trial
     except ValueError:
         raise RuntimeError(f"study {study.study_name!r} has no qualified trial yet") from None
+    if n_seeds == 0:
+        return best, {}
+    seeds = validation_seeds(settings, n_seeds)
+    sign = 1.0 if settings.direction == "maximize" else -1.0
+    complete = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,))
+    ranked = sorted(complete, key=lambda t: -sign * t.value)
+    candidates = ranked[:top_k]
+    default = [t for t in complete if t.user_attrs.get("default_gait") and t not in candidates]
+    results: dict[int, dict[str, Any]] = {}
+    for trial in tqdm([*candidates, *default], desc="validation", unit="gait", leave=False):
+        key = f"validation_{trial.number}"
+        stored = study.user_attrs.get(key)
+        if stored is None or stored["seeds"] != seeds:
+            params = {k: trial.params[k] for k in settings.space}
+            env = gymnasium.make(
+                ACL_CLIMB_ID, **settings.protocol_kwargs(), **settings.env_kwargs(params)
+            )
+            episodes = rollout(env, seeds)
+            env.close()
+            summaries = {m: mean_ci95(e[m] for e in episodes) for m in METRICS}
+            stored = {
+                "seeds": seeds,
+                "episodes": len(episodes),
+                "fell": any(e["falls"] for e in episodes),
+                "max_touched_arc_deg": max(e["touched_arc_deg"] for e in episodes),
+                "metrics": {m: summary["mean"] for m, summary in summaries.items()},
+                "ci95_half_width": {m: summary["half_width"] for m, summary in summaries.items()},
+            }
+            study.set_user_attr(key, jsonable(stored))
+        results[trial.number] = {**stored, "candidate": trial in candidates}
+
+    def holds(trial: optuna.trial.FrozenTrial) -> bool:
+        result = results[trial.number]
+        arc_limit = settings.max_touched_arc_deg
+        return not result["fell"] and (
+            arc_limit is None or result["max_touched_arc_deg"] <= arc_limit
+        )
+
+    def validated_value(trial: optuna.trial.FrozenTrial) -> float:
+        value = results[trial.number]["metrics"][settings.objective]
+        return -math.inf if value is None or math.isnan(value) else sign * value
+
+    holding = [t for t in candidates if holds(t)]
+    chosen = max(holding, key=validated_value) if holding else best
+    return chosen, results
+
+
+def tuned_entry(
+    study: optuna.Study,
+    settings: TuneSettings,
+    chosen: optuna.trial.FrozenTrial,
+    validation: Mapping[int, dict[str, Any]],
+) -> dict[str, Any]:
+    """The YAML entry for the chosen trial (see the module docstring for the format)."""
     finished = study.get_trials(deepcopy=False, states=FINISHED)
     default = next((t for t in finished if t.user_attrs.get("default_gait")), None)
-    params = {k: best.params[k] for k in settings.space}
+    params = {k: chosen.params[k] for k in settings.space}
     entry: dict[str, Any] = {
         "env_id": ACL_CLIMB_ID,
         "env_kwargs": settings.env_kwargs(params),
@@ -506,16 +594,32 @@ def tuned_entry(study: optuna.Study, settings: TuneSettings) -> dict[str, Any]:
         "steps_per_cycle": settings.steps_per_cycle,
         "cycles_per_episode": settings.cycles_per_episode,
         "trials": len(finished),
-        "best_trial": best.number,
+        "best_trial": chosen.number,
         "study": study.study_name,
-        "metrics": {m: best.user_attrs.get(m) for m in METRICS},
+        "metrics": {m: chosen.user_attrs.get(m) for m in METRICS},
     }
+    if chosen.number in validation:
+        candidates = sum(result["candidate"] for result in validation.values())
+        entry["validation"] = _validation_entry(validation[chosen.number], candidates)
     if default is not None:
-        metrics = {m: default.user_attrs.get(m) for m in METRICS}
-        entry["default_gait_metrics"] = metrics
+        entry["default_gait_metrics"] = {m: default.user_attrs.get(m) for m in METRICS}
         if "disqualified" in default.user_attrs:
             entry["default_gait_disqualified"] = default.user_attrs["disqualified"]
+        if default.number in validation:
+            entry["default_gait_validation"] = _validation_entry(validation[default.number])
     return entry
+
+
+def _validation_entry(result: dict[str, Any], candidates: int | None = None) -> dict[str, Any]:
+    out = {
+        "seeds": result["seeds"],
+        "fell": result["fell"],
+        "metrics": result["metrics"],
+        "ci95_half_width": result["ci95_half_width"],
+    }
+    if candidates is not None:
+        out["candidates"] = candidates
+    return out
 
 
 def write_tuned_gaits(path: str | Path, key: str, entry: dict[str, Any]) -> None:
@@ -558,6 +662,7 @@ def plot_frontier(
     settings: TuneSettings,
     path: str | Path,
     title: str,
+    chosen: optuna.trial.FrozenTrial | None = None,
     policy: tuple[float, float] | None = None,
 ) -> None:
     """Climb per gait cycle against energy per metre of every trial: the open-loop frontier."""
@@ -595,9 +700,8 @@ def plot_frontier(
     default = next((t for t in complete if t.user_attrs.get("default_gait")), None)
     if default is not None:
         ax.scatter(*point(default), marker="s", s=60, color="k", label="default gait", zorder=3)
-    if complete:
-        best = study.best_trial
-        ax.scatter(*point(best), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
+    if chosen is not None:
+        ax.scatter(*point(chosen), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
     if policy is not None:
         ax.scatter(*policy, marker="^", s=90, color="tab:orange", label="policy", zorder=4)
     hidden = len(trials) - len(ok) - len(out)
@@ -669,6 +773,15 @@ def make_parser() -> cli.ArgumentParser:
         default=None,
         help="disqualify gaits whose largest touched arc (deg) exceeds this on any seed "
         "(default: 90 with --no-roll, so the tuned gait truly does not roll; none otherwise)",
+    )
+    parser.add_argument(
+        "--validate-seeds",
+        type=cli.int_at_least(0),
+        default=10,
+        help="new seeds on which the best trials are re-measured before one is picked (0: none)",
+    )
+    parser.add_argument(
+        "--validate-top", type=positive, default=5, help="how many of the best trials to re-measure"
     )
     parser.add_argument(
         "--space", nargs="*", default=[], metavar="NAME:LOW:HIGH", help="search range overrides"
@@ -758,10 +871,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         progress=not args.no_progress_bar,
     )
     try:
-        entry = tuned_entry(study, settings)
+        chosen, validation = validate(study, settings, args.validate_top, args.validate_seeds)
     except RuntimeError as exc:
         print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
         raise SystemExit(1) from None
+    entry = tuned_entry(study, settings, chosen, validation)
     write_tuned_gaits(args.output, key, entry)
     print(yaml.safe_dump({key: jsonable(entry)}, sort_keys=False), end="")
     if args.plot:
@@ -771,7 +885,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
             f"{key}: {entry['trials']} open-loop gaits, {settings.objective} "
             f"(weights {weights}), {len(settings.seeds)} seeds"
         )
-        plot_frontier(study, settings, plot, title, policy)
+        plot_frontier(study, settings, plot, title, chosen, policy)
         print(f"frontier figure: {plot}")
     return entry
 

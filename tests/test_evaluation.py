@@ -376,3 +376,22 @@ def test_the_script_refuses_bad_input_with_status_2() -> None:
     assert proc.stderr.strip().splitlines() == [
         "evaluate.py: error: argument --episodes: expected an integer >= 1, got 0 (see --help)"
     ]
+
+
+def test_python_m_acl_env_plays_the_gait(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``python -m acl_env --snapshot``: one cycle through run_episode, its metrics printed, a
+    PNG of both cameras; a bad cycle count is refused."""
+    from acl_env.__main__ import main
+
+    env = gymnasium.make(ACL_CLIMB_ID, cycles_per_episode=1)
+    expected = evaluation.run_episode(env, evaluation.zero_policy(env), seed=0).metrics()
+    main(["--cycles", "1", "--snapshot", str(tmp_path / "snake.png")])
+    out = capsys.readouterr().out
+    assert f"climb {expected['climb_per_cycle_m']:.3f} m/cycle" in out
+    assert f"touched arc {expected['touched_arc_deg']:.0f} deg" in out
+    assert (tmp_path / "snake.png").stat().st_size > 0
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--cycles", "0"])
+    assert exit_info.value.code == 2

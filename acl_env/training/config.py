@@ -22,7 +22,7 @@ import acl_env  # noqa: F401  (registers the acl_env/* ids)
 from acl_env.training.cli import parse_value
 
 # Config keys consumed here rather than passed to the SB3 algorithm.
-NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs")
+NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs", "callback")
 
 
 # --- parsing -------------------------------------------------------------------------------------

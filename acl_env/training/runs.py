@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import io
+import json
+import os
+import pickle
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -46,3 +51,65 @@ def run_config(run_dir: str | Path) -> tuple[str, dict[str, Any]] | None:
         configs = yaml.safe_load(f)
     ((env_id, hyperparams),) = configs.items()
     return env_id, dict(hyperparams)
+
+
+# --- atomic writes -------------------------------------------------------------------------------
+
+
+_UMASK = os.umask(0)
+os.umask(_UMASK)
+
+
+def atomic_write(path: str | Path, data: bytes | str) -> None:
+    """Write ``data`` to ``path`` through a temporary file in the same folder, then rename.
+
+    A reader (or a second Ctrl-C) sees either the old file or the new one, never half of one.
+    """
+    path = Path(path)
+    raw = data.encode() if isinstance(data, str) else data
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        os.fchmod(fd, 0o666 & ~_UMASK)  # mkstemp makes 0600; give the usual permissions
+        with os.fdopen(fd, "wb") as f:
+            f.write(raw)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_json(path: str | Path, document: Any) -> None:
+    """``json.dumps`` (indented) written atomically."""
+    atomic_write(path, json.dumps(document, indent=2) + "\n")
+
+
+def read_json(path: str | Path) -> Any:
+    """A JSON file's content; ``ValueError`` naming the file when it is not JSON."""
+    try:
+        return json.loads(Path(path).read_text())
+    except json.JSONDecodeError as error:
+        raise ValueError(f"{path} is not valid JSON ({error})") from None
+
+
+def save_model(model: Any, model_path: str | Path, vecnormalize_path: str | Path) -> None:
+    """Save an SB3 model and, when it normalises, its VecNormalize statistics, each atomically.
+
+    The statistics are written first: a model file never exists without its statistics.
+    """
+    vec_normalize = model.get_vec_normalize_env()
+    if vec_normalize is not None:
+        atomic_write(vecnormalize_path, pickle.dumps(vec_normalize))  # as VecNormalize.save does
+    buffer = io.BytesIO()
+    model.save(buffer)
+    atomic_write(model_path, buffer.getvalue())
+
+
+def checkpoint_paths(run_dir: str | Path, steps: int) -> tuple[Path, Path]:
+    """``(model, vecnormalize)`` paths of the checkpoint at ``steps`` (rl-zoo / SB3 names)."""
+    folder = Path(run_dir) / CHECKPOINT_DIR
+    return (
+        folder / f"{CHECKPOINT_PREFIX}_{steps}_steps.zip",
+        folder / f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}_steps.pkl",
+    )

@@ -1,0 +1,231 @@
+"""Checks of a training configuration before any work: env kwargs and PPO hyperparameters.
+
+Every check raises :class:`ConfigError` with a one-line message that names the offending key and
+what is accepted, so a command line can refuse the run before it spawns a worker or writes a file.
+"""
+
+from __future__ import annotations
+
+import collections.abc
+import importlib
+import inspect
+import math
+import types
+import typing
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import gymnasium
+from gymnasium.envs.registration import load_env_creator
+
+from acl_env.training.config import NON_ALGO_KEYS, parse_python_literal
+
+# Arguments of PPO.__init__ that the trainer sets itself, never the config.
+TRAINER_SET = ("self", "env", "tensorboard_log", "verbose", "seed", "device", "_init_setup_model")
+
+
+class ConfigError(ValueError):
+    """A configuration value that the trainer refuses; the message names it."""
+
+
+# --- env kwargs ----------------------------------------------------------------------------------
+
+
+def env_creator(env_id: str) -> Callable[..., gymnasium.Env]:
+    """The registered entry point of ``env_id``; an unknown id lists the ``acl_env`` ones."""
+    try:
+        spec = gymnasium.spec(env_id)
+    except gymnasium.error.Error:
+        known = sorted(k for k in gymnasium.registry if k.startswith("acl_env/"))
+        raise ConfigError(f"unknown env id {env_id!r} (registered: {', '.join(known)})") from None
+    if callable(spec.entry_point):
+        return spec.entry_point
+    return load_env_creator(spec.entry_point)
+
+
+def _type_name(hint: Any) -> str:
+    return getattr(hint, "__name__", None) or str(hint).replace("typing.", "")
+
+
+def _matches(value: Any, hint: Any) -> bool:
+    """Whether ``value`` fits the annotation ``hint`` (the shapes used by env signatures)."""
+    if hint is Any:
+        return True
+    origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if origin in (typing.Union, types.UnionType):
+        return any(_matches(value, arg) for arg in args)
+    if hint is type(None):
+        return value is None
+    if hint is bool:
+        return isinstance(value, bool)
+    if hint is int:
+        return isinstance(value, int) and not isinstance(value, bool)
+    if hint is float:
+        return isinstance(value, int | float) and not isinstance(value, bool)
+    if hint is str:
+        return isinstance(value, str)
+    if origin is tuple:
+        if not isinstance(value, list | tuple):
+            return False
+        if len(args) == 2 and args[1] is Ellipsis:
+            return all(_matches(item, args[0]) for item in value)
+        return len(value) == len(args) and all(map(_matches, value, args))
+    if origin in (list, collections.abc.Sequence):
+        return isinstance(value, list | tuple) and all(_matches(v, args[0]) for v in value)
+    if origin in (dict, collections.abc.Mapping):
+        return isinstance(value, Mapping) and all(
+            _matches(k, args[0]) and _matches(v, args[1]) for k, v in value.items()
+        )
+    return True  # an annotation this check does not model: the constructor decides
+
+
+def check_env_kwargs(env_id: str, env_kwargs: Mapping[str, Any]) -> gymnasium.Env:
+    """Check ``env_kwargs`` against the env's signature (names, annotated types), then build one
+    env with them so its own validation runs; return that env (the caller closes it)."""
+    creator = env_creator(env_id)
+    signature = inspect.signature(creator)
+    params = [p for p in signature.parameters if p != "self"]
+    unknown = sorted(set(env_kwargs) - set(params))
+    if unknown:
+        raise ConfigError(f"unknown env kwargs {unknown} for {env_id} (accepted: {params})")
+    try:
+        hints = typing.get_type_hints(creator.__init__ if inspect.isclass(creator) else creator)
+    except Exception:  # unresolvable annotations: leave the types to the constructor
+        hints = {}
+    for key, value in env_kwargs.items():
+        hint = hints.get(key)
+        if hint is not None and not _matches(value, hint):
+            raise ConfigError(
+                f"env kwarg {key} must be {_type_name(hint)}, got {value!r} "
+                f"({type(value).__name__})"
+            )
+    spec_kwargs = dict(gymnasium.spec(env_id).kwargs)
+    try:
+        return gymnasium.make(env_id, **{**spec_kwargs, **env_kwargs})
+    except (TypeError, ValueError) as error:
+        message = str(error).split(" was raised from the environment creator")[0]
+        raise ConfigError(f"env kwargs refused by {env_id}: {message}") from None
+
+
+# --- hyperparameters -----------------------------------------------------------------------------
+
+
+def _positive_int(value: Any) -> bool:
+    return (
+        isinstance(value, int | float)
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+        and value == int(value)
+        and value >= 1
+    )
+
+
+def _number(value: Any, low: float, high: float, low_open: bool = False) -> bool:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        return False
+    return (value > low if low_open else value >= low) and value <= high
+
+
+def _schedule(value: Any) -> bool:
+    """A positive number or the zoo's ``lin_<positive number>``."""
+    if isinstance(value, str) and value.startswith("lin_"):
+        try:
+            return _number(float(value.removeprefix("lin_")), 0.0, math.inf, low_open=True)
+        except ValueError:
+            return False
+    return _number(value, 0.0, math.inf, low_open=True)
+
+
+def _bool(value: Any) -> bool:
+    return isinstance(value, bool)
+
+
+def _normalize(value: Any) -> bool:
+    """``normalize``: a bool, a dict of VecNormalize arguments, or such a dict as a string."""
+    if isinstance(value, str):
+        try:
+            value = parse_python_literal(value)
+        except (ValueError, SyntaxError):
+            return False
+    if isinstance(value, bool):
+        return True
+    allowed = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "gamma", "epsilon"}
+    return isinstance(value, dict) and set(value) <= allowed
+
+
+def _policy_kwargs(value: Any) -> bool:
+    if isinstance(value, str):
+        try:
+            value = parse_python_literal(value)
+        except (ValueError, SyntaxError):
+            return False
+    return isinstance(value, dict)
+
+
+def _callback(value: Any) -> bool:
+    """``callback``: a dotted class path, a ``{path: kwargs}`` mapping, or a list of those."""
+    items = value if isinstance(value, list) else [value]
+    for item in items:
+        name = next(iter(item)) if isinstance(item, dict) and len(item) == 1 else item
+        if not isinstance(name, str) or "." not in name:
+            return False
+        module, _, attr = name.rpartition(".")
+        try:
+            if not isinstance(getattr(importlib.import_module(module), attr, None), type):
+                return False
+        except ImportError:
+            return False
+    return True
+
+
+# key -> (check, what is accepted)
+HYPERPARAM_CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
+    "n_envs": (_positive_int, "an integer >= 1"),
+    "n_timesteps": (_positive_int, "an integer >= 1"),
+    "n_steps": (_positive_int, "an integer >= 1"),
+    "batch_size": (lambda v: _positive_int(v) and v >= 2, "an integer >= 2"),
+    "n_epochs": (_positive_int, "an integer >= 1"),
+    "learning_rate": (_schedule, "a positive number or 'lin_<number>'"),
+    "clip_range": (_schedule, "a positive number or 'lin_<number>'"),
+    "clip_range_vf": (lambda v: v is None or _schedule(v), "None or a positive number"),
+    "gamma": (lambda v: _number(v, 0.0, 1.0, low_open=True), "a number in (0, 1]"),
+    "gae_lambda": (lambda v: _number(v, 0.0, 1.0), "a number in [0, 1]"),
+    "ent_coef": (lambda v: _number(v, 0.0, math.inf), "a number >= 0"),
+    "vf_coef": (lambda v: _number(v, 0.0, math.inf), "a number >= 0"),
+    "max_grad_norm": (lambda v: _number(v, 0.0, math.inf, low_open=True), "a number > 0"),
+    "target_kl": (lambda v: v is None or _number(v, 0.0, math.inf, True), "None or a number > 0"),
+    "normalize_advantage": (_bool, "True or False"),
+    "use_sde": (_bool, "True or False"),
+    "sde_sample_freq": (lambda v: _positive_int(v) or v == -1, "-1 or an integer >= 1"),
+    "stats_window_size": (_positive_int, "an integer >= 1"),
+    "policy": (lambda v: v in ("MlpPolicy",), "'MlpPolicy'"),
+    "policy_kwargs": (_policy_kwargs, "a dict or a dict(...) string"),
+    "normalize": (_normalize, "a bool or a dict of VecNormalize arguments"),
+    "env_kwargs": (lambda v: v is None or isinstance(v, dict), "a mapping"),
+    "callback": (_callback, "an importable dotted class path, or a list of them"),
+}
+
+
+def check_hyperparams(hyperparams: Mapping[str, Any], source: str = "hyperparameter") -> None:
+    """Names from PPO's signature and the zoo keys the trainer reads; values typed and in range.
+
+    ``source`` prefixes the message (``--hyperparams``, or the config file and entry).
+    """
+    from stable_baselines3 import PPO
+
+    accepted = [
+        *(p for p in inspect.signature(PPO.__init__).parameters if p not in TRAINER_SET),
+        *NON_ALGO_KEYS,
+    ]
+    unknown = sorted(set(hyperparams) - set(accepted))
+    if unknown:
+        raise ConfigError(f"{source}: unknown names {unknown} (accepted: {sorted(accepted)})")
+    if "n_timesteps" not in hyperparams:
+        raise ConfigError(f"{source}: n_timesteps is missing")
+    for key, value in hyperparams.items():
+        check, accepted_text = HYPERPARAM_CHECKS.get(key, (lambda v: True, ""))
+        if not check(value):
+            raise ConfigError(f"{source}: {key} must be {accepted_text}, got {value!r}")
+    n_rollout = int(hyperparams.get("n_steps", 2048)) * int(hyperparams.get("n_envs", 1))
+    if n_rollout < 2:
+        raise ConfigError(f"{source}: n_steps x n_envs must be at least 2, got {n_rollout}")

@@ -1,0 +1,395 @@
+"""The trainer (acl_env.training.trainer, ``acl-train``): interrupt, resume, bad command lines.
+
+Tiny in-process runs: 2 envs in the trainer process (``--vec-env dummy``), 64-step rollouts
+(128 env steps per update), 20-step episodes. Signals are real (``os.kill`` on this process), sent
+from inside a rollout or a gradient update, so where they land is exact.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import torch
+import yaml
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.vec_env import VecNormalize
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.training import trainer
+
+ROOT = Path(__file__).resolve().parents[1]
+ROLLOUT = 128  # env steps per update: n_steps 64 x 2 envs
+EPS = 1e-4  # RunningMeanStd's initial count
+
+
+def tiny_argv(run_root: Path, n_timesteps: int, *extra: str) -> list[str]:
+    """A tiny new run in this process."""
+    return [
+        *["--env", ACL_CLIMB_ID, "--seed", "3", "--n-timesteps", str(n_timesteps)],
+        *["--n-envs", "2", "--vec-env", "dummy", "--run-dir", str(run_root)],
+        *["--hyperparams", "n_steps:64", "batch_size:64", "n_epochs:2"],
+        *["--env-kwargs", "steps_per_cycle:20", "cycles_per_episode:1"],
+        *["--checkpoint-freq", "256", "--no-progress-bar", *extra],
+    ]
+
+
+def run(argv: list[str], *callbacks: BaseCallback) -> Path:
+    """Plan and run one segment with extra callbacks (the signal senders below)."""
+    args = trainer.make_parser().parse_args(argv)
+    return trainer.run_segment(trainer.plan_segment(args, argv), callbacks, verbose=0)
+
+
+def policy_params(model: PPO) -> dict[str, torch.Tensor]:
+    return {k: v.detach().clone() for k, v in model.policy.state_dict().items()}
+
+
+def assert_same_params(a: dict[str, torch.Tensor], b: dict[str, torch.Tensor]) -> None:
+    assert a.keys() == b.keys()
+    for key in a:
+        assert torch.equal(a[key], b[key]), key
+
+
+def load(run_dir: Path) -> tuple[PPO, VecNormalize, dict[str, Any]]:
+    model = PPO.load(run_dir / "model.zip", device="cpu")
+    with open(run_dir / "vecnormalize.pkl", "rb") as f:
+        import pickle
+
+        stats = pickle.load(f)
+    return model, stats, json.loads((run_dir / "summary.json").read_text())
+
+
+class SignalInRollout(BaseCallback):
+    """Send ``signum`` to this process at ``step`` of rollout ``rollout`` (1-based); remember the
+    weights and step count at that rollout's start (those of the last completed update)."""
+
+    def __init__(self, rollout: int, step: int, signum: int = signal.SIGINT) -> None:
+        super().__init__()
+        self.rollout, self.step, self.signum = rollout, step, signum
+        self.rollouts, self.steps = 0, 0
+        self.at_start: tuple[int, dict[str, torch.Tensor]] | None = None
+        self.first_original_obs: np.ndarray | None = None
+
+    def _on_training_start(self) -> None:
+        vec_normalize = self.model.get_vec_normalize_env()
+        self.first_original_obs = vec_normalize.get_original_obs().copy()
+
+    def _on_rollout_start(self) -> None:
+        self.rollouts += 1
+        self.steps = 0
+        if self.rollouts == self.rollout:
+            self.at_start = (self.model.num_timesteps, policy_params(self.model))
+
+    def _on_step(self) -> bool:
+        self.steps += 1
+        if self.rollouts == self.rollout and self.steps == self.step:
+            os.kill(os.getpid(), self.signum)
+        return True
+
+
+@pytest.fixture(scope="module")
+def interrupted_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, SignalInRollout]:
+    """A 512-step run stopped by SIGINT at step 10 of its third rollout (after 2 updates)."""
+    sender = SignalInRollout(rollout=3, step=10)
+    run_dir = run(tiny_argv(tmp_path_factory.mktemp("runs"), 512), sender)
+    return run_dir, sender
+
+
+def test_interrupt_in_a_rollout_saves_the_last_update(
+    interrupted_run: tuple[Path, SignalInRollout],
+) -> None:
+    """Steps, weights and statistics of update 2; the untrained rollout steps discarded."""
+    run_dir, sender = interrupted_run
+    model, stats, summary = load(run_dir)
+    assert sender.at_start is not None
+    steps_at_start, params_at_start = sender.at_start
+    assert steps_at_start == 2 * ROLLOUT
+    assert model.num_timesteps == 2 * ROLLOUT
+    assert_same_params(policy_params(model), params_at_start)
+    # VecNormalize counts: one per env and step, plus the first reset's observations.
+    assert stats.ret_rms.count == pytest.approx(EPS + 2 * ROLLOUT)
+    assert stats.obs_rms.count == pytest.approx(EPS + 2 * ROLLOUT + 2)
+    (segment,) = summary["segments"]
+    assert segment["interrupted"] and segment["signal"] == "SIGINT"
+    assert segment["steps"] == segment["end_steps"] == summary["total_steps"] == 2 * ROLLOUT
+    assert segment["discarded_rollout_steps"] == 2 * 11  # step 11 saw the stop
+    assert summary["interruptions"] == 1
+    # Checkpoints, too, hold completed updates only: the one at 256 steps equals the final save.
+    checkpoint = PPO.load(run_dir / "checkpoints" / "model_256_steps.zip", device="cpu")
+    assert checkpoint.num_timesteps == 256
+    assert_same_params(policy_params(checkpoint), params_at_start)
+    assert not list(run_dir.rglob("*.tmp"))
+
+
+def test_interrupt_in_an_update_finishes_it_and_a_second_signal_is_harmless(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """SIGINT then SIGTERM during update 2: the update completes, its weights are saved."""
+    original_train = PPO.train
+    calls: list[dict[str, torch.Tensor]] = []
+
+    def train(self: PPO) -> None:
+        if len(calls) == 1:
+            os.kill(os.getpid(), signal.SIGINT)
+            original_train(self)  # the first half of the update would have been cut here
+            os.kill(os.getpid(), signal.SIGTERM)
+        else:
+            original_train(self)
+        calls.append(policy_params(self))
+
+    monkeypatch.setattr(PPO, "train", train)
+    run_dir = run(tiny_argv(tmp_path, 10**6))
+    model, stats, summary = load(run_dir)
+    assert len(calls) == 2
+    assert model.num_timesteps == 2 * ROLLOUT
+    assert_same_params(policy_params(model), calls[1])
+    assert stats.ret_rms.count == pytest.approx(EPS + 2 * ROLLOUT)
+    (segment,) = summary["segments"]
+    assert segment["interrupted"] and segment["signal"] == "SIGINT"  # the first one received
+    assert segment["discarded_rollout_steps"] == 2  # the one vector step that noticed the stop
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # handlers restored
+
+
+def test_resume_continues_the_run_with_its_own_settings(
+    interrupted_run: tuple[Path, SignalInRollout], tmp_path: Path
+) -> None:
+    """Config untouched, seed and checkpoint frequency kept, the rest of the steps trained, the
+    statistics continue, the summary keeps both segments, the random stream is a new one."""
+    run_dir = Path(shutil.copytree(interrupted_run[0], tmp_path / "run"))
+    config_before = (run_dir / "config.yml").read_bytes()
+    resumed = SignalInRollout(rollout=0, step=0)  # records the first observations only
+    run(["--resume", str(run_dir), "--no-progress-bar"], resumed)
+    assert (run_dir / "config.yml").read_bytes() == config_before
+    model, stats, summary = load(run_dir)
+    assert model.num_timesteps == 512  # the config's n_timesteps, not 512 more
+    assert stats.ret_rms.count == pytest.approx(EPS + 512)
+    assert stats.obs_rms.count == pytest.approx(EPS + 512 + 2 + 2)  # a reset per segment
+    first, second = summary["segments"]
+    assert (first["start_steps"], first["end_steps"]) == (0, 256)
+    assert (second["start_steps"], second["end_steps"], second["steps"]) == (256, 512, 256)
+    assert not second["interrupted"] and summary["interruptions"] == 1
+    assert summary["steps"] == 512 and summary["total_steps"] == 512
+    assert summary["wall_time_s"] == pytest.approx(first["wall_time_s"] + second["wall_time_s"])
+    assert first["seed"] == 3 and second["seed"] == trainer.segment_seed(3, 1) != 3
+    record = json.loads((run_dir / "args.json").read_text())
+    assert record["resumes"][0]["settings"]["seed"] == 3
+    assert record["resumes"][0]["settings"]["checkpoint_freq"] == 256
+    assert record["resumes"][0]["settings"]["vec_env"] == "dummy"
+    # A fresh stream: the resumed segment does not replay the first segment's resets.
+    first_obs = interrupted_run[1].first_original_obs
+    assert first_obs is not None and resumed.first_original_obs is not None
+    assert not np.allclose(first_obs, resumed.first_original_obs)
+
+
+def test_resume_is_reproducible(
+    interrupted_run: tuple[Path, SignalInRollout], tmp_path: Path
+) -> None:
+    """Two copies of a run resumed alike train to identical weights and statistics."""
+    results = []
+    for name in ("a", "b"):
+        run_dir = Path(shutil.copytree(interrupted_run[0], tmp_path / name))
+        run(["--resume", str(run_dir), "--n-timesteps", "128", "--no-progress-bar"])
+        results.append(load(run_dir))
+    (model_a, stats_a, _), (model_b, stats_b, _) = results
+    assert model_a.num_timesteps == model_b.num_timesteps == 256 + 128
+    assert_same_params(policy_params(model_a), policy_params(model_b))
+    np.testing.assert_array_equal(stats_a.obs_rms.mean, stats_b.obs_rms.mean)
+
+
+def test_segment_seeds_are_distinct_and_reproducible() -> None:
+    seeds = [trainer.segment_seed(7, k) for k in range(50)]
+    assert seeds[0] == 7 and len(set(seeds)) == 50
+    assert seeds == [trainer.segment_seed(7, k) for k in range(50)]
+    assert all(0 <= s < 2**31 for s in seeds)
+
+
+def test_named_callback_from_the_config(tmp_path: Path) -> None:
+    """``callback:`` in the config names classes by dotted path, as in the zoo."""
+    argv = tiny_argv(tmp_path, 128)
+    args = trainer.make_parser().parse_args(argv)
+    plan = trainer.plan_segment(args, argv)
+    assert "callback" in plan.hyperparams  # ppo.yml names InfoTermsCallback
+    from acl_env.training.callbacks import InfoTermsCallback, callbacks_from_config
+
+    (callback,) = callbacks_from_config(plan.hyperparams["callback"])
+    assert isinstance(callback, InfoTermsCallback)
+
+
+# --- command lines refused before any work ------------------------------------------------------
+
+
+def make_corrupt_run(source: Path, target: Path, how: str) -> Path:
+    """A copy of a run folder with one file emptied or replaced by garbage."""
+    run_dir = Path(shutil.copytree(source, target))
+    file, content = {
+        "empty config": ("config.yml", b""),
+        "corrupt config": ("config.yml", b"{{{ not: yaml"),
+        "list config": ("config.yml", b"- 1\n- 2\n"),
+        "corrupt stats": ("vecnormalize.pkl", b"garbage"),
+        "corrupt model": ("model.zip", b"PK garbage"),
+        "corrupt summary": ("summary.json", b"{"),
+    }[how]
+    (run_dir / file).write_bytes(content)
+    shutil.rmtree(run_dir / "checkpoints", ignore_errors=True)
+    return run_dir
+
+
+BAD_NEW_RUNS = [
+    (["--n-timesteps", "0"], "--n-timesteps"),
+    (["--checkpoint-freq", "0"], "--checkpoint-freq"),
+    (["--n-envs", "0"], "--n-envs"),
+    (["--seed", "-1"], "--seed"),
+    (["--torch-threads", "0"], "--torch-threads"),
+    (["--vec-env", "threads"], "--vec-env"),
+    (["--device", "tpu"], "--device"),
+    (["--exp-name", "a/b"], "--exp-name"),
+    (["--env", "acl_env/NoSuchEnv-v0"], "--env"),
+    (["--config", "no/such/ppo.yml"], "--config"),
+    (["--gym-packages", "no_such_module_xyz"], "--gym-packages"),
+    (["--hyperparams", "learning_rate:abc"], "learning_rate"),
+    (["--hyperparams", "learning_rat:1e-4"], "learning_rat"),
+    (["--hyperparams", "n_steps:0"], "n_steps"),
+    (["--hyperparams", "batch_size:1"], "batch_size"),
+    (["--hyperparams", "gamma:1.5"], "gamma"),
+    (["--hyperparams", "target_kl:-1"], "target_kl"),
+    (["--hyperparams", "n_epochs:2.5"], "n_epochs"),
+    (["--hyperparams", "policy_kwargs:dict(no_such_arg=1)"], "policy_kwargs"),
+    (["--hyperparams", "callback:no.such.Callback"], "callback"),
+    (["--hyperparams", "env_kwargs:{}"], "--env-kwargs"),
+    (["--hyperparams", "nocolon"], "--hyperparams"),
+    (["--hyperparams", "n_steps:64", "n_steps:32"], "twice"),
+    (["--env-kwargs", "no_such_kwarg:1"], "no_such_kwarg"),
+    (["--env-kwargs", "steps_per_cycle:abc"], "steps_per_cycle"),
+    (["--env-kwargs", "steps_per_cycle:20.5"], "steps_per_cycle"),
+    (["--env-kwargs", "domain_randomization:maybe"], "domain_randomization"),
+    (["--env-kwargs", "pole_radius:-0.1"], "pole_radius"),
+    (["--env-kwargs", "residual_scale:None", "n_joints:1"], "n_joints"),
+]
+
+
+@pytest.mark.parametrize(
+    ("extra", "named"), BAD_NEW_RUNS, ids=[" ".join(c[0]) for c in BAD_NEW_RUNS]
+)
+def test_bad_new_run_is_refused_up_front(
+    extra: list[str], named: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Exit status 2, one line naming the argument, and no run folder."""
+    run_root = tmp_path / "runs"
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(["--run-dir", str(run_root), "--no-progress-bar", *extra])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and named in err, err
+    assert not run_root.exists()
+
+
+RESUME_CASES = [
+    ("empty config", [], "config.yml"),
+    ("corrupt config", [], "config.yml"),
+    ("list config", [], "config.yml"),
+    ("corrupt stats", [], "vecnormalize.pkl"),
+    ("corrupt model", [], "model.zip"),
+    ("corrupt summary", [], "summary.json"),
+    (None, ["--hyperparams", "n_steps:32"], "--hyperparams"),
+    (None, ["--env-kwargs", "friction:0.5"], "--env-kwargs"),
+    (None, ["--n-envs", "4"], "--n-envs"),
+    (None, ["--env", ACL_CLIMB_ID], "--env"),
+    (None, [], "--n-timesteps"),  # the run is complete: say how to train more
+]
+
+
+@pytest.mark.parametrize(("how", "extra", "named"), RESUME_CASES)
+def test_bad_resume_is_refused_up_front(
+    how: str | None,
+    extra: list[str],
+    named: str,
+    complete_run: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Exit status 2, one line naming the argument or file; the run folder is left as it was."""
+    if how is None:
+        run_dir = Path(shutil.copytree(complete_run, tmp_path / "run"))
+    else:
+        run_dir = make_corrupt_run(complete_run, tmp_path / "run", how)
+    before = {p: p.read_bytes() for p in run_dir.rglob("*") if p.is_file()}
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(["--resume", str(run_dir), "--no-progress-bar", *extra])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and named in err, err
+    assert {p: p.read_bytes() for p in run_dir.rglob("*") if p.is_file()} == before
+
+
+def test_missing_resume_folder_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(["--resume", str(tmp_path / "nope")])
+    assert exit_info.value.code == 2 and "--resume" in capsys.readouterr().err
+
+
+def test_lowercase_booleans_are_booleans(tmp_path: Path) -> None:
+    """``domain_randomization:false`` is the bool False, not a string of letters."""
+    argv = tiny_argv(tmp_path, 128, "--env-kwargs", "domain_randomization:false")
+    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    assert plan.hyperparams["env_kwargs"]["domain_randomization"] is False
+    assert not (tmp_path / "runs").exists()
+
+
+@pytest.fixture(scope="module")
+def complete_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A finished 128-step run."""
+    return run(tiny_argv(tmp_path_factory.mktemp("complete"), 128))
+
+
+# --- the real thing: a subprocess, signals from outside ----------------------------------------
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "signals", [(signal.SIGINT, signal.SIGINT), (signal.SIGTERM, signal.SIGINT)], ids=str
+)
+def test_signals_from_outside(tmp_path: Path, signals: tuple[int, int]) -> None:
+    """``train/train_ppo.py`` with subprocess workers, two signals 50 ms apart once learning has
+    started: exit 0, a loadable model at a whole number of updates with matching statistics."""
+    run_root, log = tmp_path / "runs", tmp_path / "train.log"
+    argv = tiny_argv(run_root, 10**7)
+    argv[argv.index("dummy")] = "subproc"
+    with open(log, "w") as out:
+        proc = subprocess.Popen(
+            [sys.executable, str(ROOT / "train" / "train_ppo.py"), *argv],
+            cwd=tmp_path,
+            stdout=out,
+            stderr=out,
+        )
+    try:
+        deadline = time.monotonic() + 300
+        while not list(run_root.rglob("model_*_steps.zip")):  # two updates done
+            assert proc.poll() is None and time.monotonic() < deadline, log.read_text()[-3000:]
+            time.sleep(0.2)
+        for signum in signals:
+            proc.send_signal(signum)
+            time.sleep(0.05)
+        assert proc.wait(timeout=180) == 0, log.read_text()[-3000:]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    (run_dir,) = run_root.iterdir()
+    model, stats, summary = load(run_dir)
+    assert model.num_timesteps % ROLLOUT == 0 and model.num_timesteps >= 256
+    assert stats.ret_rms.count == pytest.approx(EPS + model.num_timesteps)
+    assert summary["interrupted"] and summary["total_steps"] == model.num_timesteps
+    assert yaml.safe_load((run_dir / "config.yml").read_text())[ACL_CLIMB_ID]["n_steps"] == 64
+    assert not list(run_dir.rglob("*.tmp"))

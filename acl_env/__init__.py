@@ -2,8 +2,8 @@
 
 Importing the package registers the Gymnasium environments:
 
-* ``acl_env/ACLClimb-v0``: residual control on top of the ACL gait (Eq. 1-5).
-* ``acl_env/RollingHelixClimb-v0``: residual control on top of the rolling helix.
+* ``acl_env/ACLClimb-v1``: residual control on top of the ACL gait (Eq. 1-5).
+* ``acl_env/RollingHelixClimb-v1``: residual control on top of the rolling helix.
 """
 
 from gymnasium.envs.registration import register, registry
@@ -11,8 +11,8 @@ from gymnasium.envs.registration import register, registry
 __version__ = "0.1.0"
 __all__ = ["ACL_CLIMB_ID", "ROLLING_HELIX_CLIMB_ID"]
 
-ACL_CLIMB_ID = "acl_env/ACLClimb-v0"
-ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v0"
+ACL_CLIMB_ID = "acl_env/ACLClimb-v1"
+ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v1"
 
 _ENVS = {
     ACL_CLIMB_ID: {"base_gait": "acl"},

@@ -15,11 +15,13 @@ import mujoco
 import numpy as np
 
 from acl_env.constants import (
+    CONTACT_TIMECONST,
     DEFAULT_FRICTION,
     DEFAULT_KP,
     DEFAULT_N_JOINTS,
     DEFAULT_POLE_RADIUS,
     FLOOR_GEOM,
+    IMPRATIO,
     IMU_GYRO_SENSOR,
     IMU_QUAT_SENSOR,
     IMU_SITE,
@@ -78,10 +80,12 @@ def build_spec(
         spec = mujoco.MjSpec.from_file(str(scene_path))
     spec.compiler.degree = False  # degrees by default (docs/mujoco_notes.md#angles-in-degrees)
     spec.option.timestep = timestep
+    spec.option.impratio = IMPRATIO
     module = spec.find_default(MODULE_CLASS)
     # The SEA module (acl_env.constants): these constants drive the template's defaults.
     module.geom.size[0] = SEA_MODULE_RADIUS
     module.geom.mass = MODULE_MASS
+    module.geom.solref[0] = CONTACT_TIMECONST
     module.actuator.gainprm[0] = kp
     module.actuator.biasprm[1] = -kp
     module.actuator.forcerange = [-PEAK_TORQUE, PEAK_TORQUE]
@@ -90,6 +94,7 @@ def build_spec(
     pole = spec.geom(POLE_GEOM)
     pole.size[0] = pole_radius
     pole.friction[0] = friction
+    pole.solref[0] = CONTACT_TIMECONST
 
     axes = joint_axes(n_joints)
     body = spec.body(link_name(0))

@@ -1,8 +1,18 @@
-"""Speed of the climbing env: raw physics, env step, their ratio, real-time factor, vector scaling.
+"""Speed of the climbing env: env step against raw physics, v1 against the v0 2 ms step, scaling.
 
-Run on an idle machine: ``python benchmarks/bench_env.py [--steps 2000] [--json PATH]``.
-The raw figure plays the same open-loop keyframes with ``mj_step(nstep=50)`` from the same start
-state, so the ratio is what the env adds (reward, slip sampling, observation) over physics.
+``python benchmarks/bench_env.py [--steps 400] [--rounds 7] [--json PATH]``
+
+1. **Env overhead.** For every step, from the same saved physics state, ``env.step`` and the raw
+   physics of that step (the same ``mj_step`` calls: ``SLIP_SAMPLES`` x ``nstep=substeps`` with
+   the same servo targets, nothing else) are timed back to back, alternating which goes first.
+   The ratio of their summed times per round is reported as the median over ``--rounds``.
+2. **Steps per second per core** of ``env.step`` at the default physics step and at the old
+   2 ms step (``timestep=0.002``), in alternating blocks of the same run (median of rounds).
+3. **Process scaling:** total steps/s of Gymnasium's async vector env with 1 and 2 worker
+   processes, alternating, median of rounds; meaningful only on an otherwise idle machine.
+
+Timings on a loaded machine are noisy; the ratios come from interleaved measurements so that
+load hits both sides alike.
 """
 
 from __future__ import annotations
@@ -10,91 +20,135 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from pathlib import Path
 
 import gymnasium as gym
 import mujoco
 import numpy as np
+from tqdm import tqdm
 
-import acl_env  # noqa: F401  (registers the ids)
+from acl_env import ACL_CLIMB_ID
+from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.acl_climb import SLIP_SAMPLES
 
-ENV_ID = "acl_env/ACLClimb-v0"
+V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 
-def time_raw_physics(steps: int) -> tuple[float, float]:
-    """Seconds per env-step worth of ``mj_step`` (frame_skip substeps), and per single mj_step."""
-    env = gym.make(ENV_ID).unwrapped
+def env_vs_raw(steps: int, rounds: int) -> dict[str, float]:
+    """Interleaved ``env.step`` and raw physics of the same step from the same state."""
+    env = gym.make(ACL_CLIMB_ID).unwrapped
     env.reset(seed=0)
-    model, data, table = env.model, env.data, env.gait.cycle()
-    substeps = env.frame_skip // SLIP_SAMPLES
-    first = int(env._keyframe)  # the keyframe the env would play next
-    start = time.perf_counter()
-    for k in range(steps):
-        data.ctrl[:] = table[(first + k) % len(table)]
-        for _ in range(SLIP_SAMPLES):  # same call pattern as the env, nothing else
-            mujoco.mj_step(model, data, nstep=substeps)
-    elapsed = time.perf_counter() - start
-    return elapsed / steps, elapsed / (steps * env.frame_skip)
-
-
-def time_env(steps: int) -> float:
-    """Seconds per ``env.step`` with zero actions (episodes reset as they end)."""
-    env = gym.make(ENV_ID).unwrapped
-    env.reset(seed=0)
+    model, data = env.model, env.data
     action = np.zeros(env.action_space.shape, dtype=np.float32)
-    elapsed, done = 0.0, 0
-    while done < steps:
-        start = time.perf_counter()
-        _, _, terminated, truncated, _ = env.step(action)
-        elapsed += time.perf_counter() - start
-        done += 1
-        if terminated or truncated:
-            env.reset()
-    return elapsed / steps
+    substeps = env.frame_skip // SLIP_SAMPLES
+    state = np.empty(mujoco.mj_stateSize(model, STATE))
+    ratios, env_ms, raw_ms = [], [], []
+    for r in tqdm(range(rounds), desc="env vs raw", leave=False):
+        t_env = t_raw = 0.0
+        for k in range(steps):
+            mujoco.mj_getState(model, data, state, STATE)
+            target = np.clip(env._base_target(), -np.pi / 2, np.pi / 2)  # the zero residual
+            env_first = (k + r) % 2 == 0
+            for side in ("env", "raw") if env_first else ("raw", "env"):
+                if side == "env":
+                    start = time.perf_counter()
+                    _, _, terminated, truncated, _ = env.step(action)
+                    t_env += time.perf_counter() - start
+                else:
+                    data.ctrl[:] = target
+                    start = time.perf_counter()
+                    for _ in range(SLIP_SAMPLES):
+                        mujoco.mj_step(model, data, nstep=substeps)
+                    t_raw += time.perf_counter() - start
+                if side != ("raw" if env_first else "env"):  # same start for the other side
+                    mujoco.mj_setState(model, data, state, STATE)
+                    mujoco.mj_forward(model, data)  # the env reads derived quantities (COM)
+            # Both orders end in the post-step state; only env.step moves the env's counters.
+            if terminated or truncated:
+                env.reset(seed=r * steps + k)
+        ratios.append(t_env / t_raw)
+        env_ms.append(1e3 * t_env / steps)
+        raw_ms.append(1e3 * t_raw / steps)
+    env.close()
+    return {
+        "env_over_raw": float(np.median(ratios)),
+        "env_over_raw_rounds": [float(x) for x in ratios],
+        "env_step_ms": float(np.median(env_ms)),
+        "raw_physics_ms": float(np.median(raw_ms)),
+    }
 
 
-def time_vector(num_envs: int, steps: int) -> float:
-    """Total env steps per second of an async (multi-process) vector env."""
-    envs = gym.make_vec(ENV_ID, num_envs=num_envs, vectorization_mode="async")
-    envs.reset(seed=0)
-    action = np.zeros((num_envs, *envs.single_action_space.shape), dtype=np.float32)
-    envs.step(action)
-    start = time.perf_counter()
-    for _ in range(steps):
-        envs.step(action)
-    elapsed = time.perf_counter() - start
-    envs.close()
-    return num_envs * steps / elapsed
+def steps_per_second(steps: int, rounds: int) -> dict[str, float]:
+    """``env.step`` per second at the default physics step and at 2 ms, alternating blocks."""
+    envs = {
+        "default": gym.make(ACL_CLIMB_ID).unwrapped,
+        "v0_2ms": gym.make(ACL_CLIMB_ID, timestep=V0_TIMESTEP).unwrapped,
+    }
+    for env in envs.values():
+        env.reset(seed=0)
+    rates: dict[str, list[float]] = {name: [] for name in envs}
+    for _ in tqdm(range(rounds), desc="steps/s", leave=False):
+        for name, env in envs.items():
+            action = np.zeros(env.action_space.shape, dtype=np.float32)
+            elapsed = 0.0
+            for _ in range(steps):
+                start = time.perf_counter()
+                _, _, terminated, truncated, _ = env.step(action)
+                elapsed += time.perf_counter() - start
+                if terminated or truncated:
+                    env.reset()
+            rates[name].append(steps / elapsed)
+    out = {f"steps_per_s_{name}": float(np.median(r)) for name, r in rates.items()}
+    out["speedup_default_over_2ms"] = float(
+        np.median(np.array(rates["default"]) / np.array(rates["v0_2ms"]))
+    )
+    return out
+
+
+def vector_scaling(steps: int, rounds: int) -> dict[str, float]:
+    """Total steps/s of the async vector env with 1 and 2 processes, alternating rounds."""
+    vecs = {n: gym.make_vec(ACL_CLIMB_ID, num_envs=n, vectorization_mode="async") for n in (1, 2)}
+    rates: dict[int, list[float]] = {1: [], 2: []}
+    for n, vec in vecs.items():
+        vec.reset(seed=0)
+        vec.step(np.zeros((n, *vec.single_action_space.shape), dtype=np.float32))
+    for _ in tqdm(range(rounds), desc="processes", leave=False):
+        for n, vec in vecs.items():
+            action = np.zeros((n, *vec.single_action_space.shape), dtype=np.float32)
+            start = time.perf_counter()
+            for _ in range(steps):
+                vec.step(action)
+            rates[n].append(n * steps / (time.perf_counter() - start))
+    for vec in vecs.values():
+        vec.close()
+    return {
+        "vec_async_1_steps_per_s": float(np.median(rates[1])),
+        "vec_async_2_steps_per_s": float(np.median(rates[2])),
+        "vec_scaling_2_over_1": float(np.median(np.array(rates[2]) / np.array(rates[1]))),
+    }
 
 
 def main(argv: list[str] | None = None) -> dict[str, float]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=2000, help="env steps per measurement")
+    parser.add_argument("--steps", type=int, default=400, help="env steps per round and side")
+    parser.add_argument("--rounds", type=int, default=7, help="alternating rounds (median)")
+    parser.add_argument("--skip-vector", action="store_true", help="skip the process scaling")
     parser.add_argument("--json", help="write the figures to this JSON file")
     args = parser.parse_args(argv)
 
-    raw_step, mj_step = time_raw_physics(args.steps)
-    env_step = time_env(args.steps)
-    one = time_vector(1, args.steps // 2)
-    two = time_vector(2, args.steps // 2)
-    dt = gym.make(ENV_ID).unwrapped.dt
-    figures = {
-        "mj_step_per_s": 1.0 / mj_step,
-        "raw_physics_ms_per_env_step": 1e3 * raw_step,
-        "env_step_ms": 1e3 * env_step,
-        "env_steps_per_s": 1.0 / env_step,
-        "env_overhead_pct": 100.0 * (env_step / raw_step - 1.0),
-        "real_time_factor": dt / env_step,
-        "vec_async_1_steps_per_s": one,
-        "vec_async_2_steps_per_s": two,
-        "vec_scaling_2_over_1": two / one,
-    }
+    figures: dict[str, float] = {"default_timestep_ms": 1e3 * PHYSICS_TIMESTEP}
+    figures |= env_vs_raw(args.steps, args.rounds)
+    figures |= steps_per_second(args.steps, args.rounds)
+    if not args.skip_vector:
+        figures |= vector_scaling(args.steps, args.rounds)
+    figures["real_time_factor"] = 0.1 * figures["steps_per_s_default"]
     print(f"{'measure':34s} value")
     for key, value in figures.items():
-        print(f"{key:34s} {value:10.2f}")
+        if not isinstance(value, list):
+            print(f"{key:34s} {value:10.3f}")
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(figures, f, indent=2)
+        Path(args.json).write_text(json.dumps(figures, indent=2))
     return figures
 
 

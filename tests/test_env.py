@@ -12,12 +12,19 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import acl_env  # noqa: F401  (registers the ids)
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.constants import PHYSICS_TIMESTEP, SEA_MODULE_LENGTH, SEA_MODULE_RADIUS
 from acl_env.envs import ACLClimbEnv
-from acl_env.gait.kinematics import rigid_fit
+from acl_env.gait import ACLGait
+from acl_env.gait.kinematics import (
+    clear_placement,
+    forward_kinematics,
+    min_axis_distance,
+    rigid_fit,
+)
 from acl_env.model import POLE_GEOM, joint_name
 
-ENV_IDS = ["acl_env/ACLClimb-v0", "acl_env/RollingHelixClimb-v0"]
+ENV_IDS = [ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID]
 SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}
 
 
@@ -56,7 +63,7 @@ def test_gymnasium_check_env(env_id: str) -> None:
 def test_sb3_check_env() -> None:
     from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
-    env = gym.make("acl_env/ACLClimb-v0", **SHORT)
+    env = gym.make(ACL_CLIMB_ID, **SHORT)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         sb3_check_env(env.unwrapped, warn=True)
@@ -76,7 +83,7 @@ def test_registered_with_gait(env_id: str) -> None:
 
 def test_same_seed_same_rollout() -> None:
     actions = np.random.default_rng(0).uniform(-1, 1, (15, 20)).astype(np.float32)
-    env_a, env_b = gym.make("acl_env/ACLClimb-v0"), gym.make("acl_env/ACLClimb-v0")
+    env_a, env_b = gym.make(ACL_CLIMB_ID), gym.make(ACL_CLIMB_ID)
     assert_same(rollout(env_a, 3, actions), rollout(env_b, 3, actions))
     # A different seed gives a different start.
     other = rollout(env_a, 4, actions[:1])
@@ -100,7 +107,7 @@ def test_pickled_env_reproduces_reset_and_step() -> None:
 
 
 def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
-    env = gym.make("acl_env/ACLClimb-v0", reward_weights={"climb": 2.0, "slip": 3.0})
+    env = gym.make(ACL_CLIMB_ID, reward_weights={"climb": 2.0, "slip": 3.0})
     obs, _ = env.reset(seed=0)
     assert env.observation_space.contains(obs)
     rng = np.random.default_rng(2)
@@ -116,7 +123,7 @@ def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
 
 
 def test_zero_action_is_the_open_loop_gait_and_residual_is_clipped() -> None:
-    env = gym.make("acl_env/ACLClimb-v0", residual_scale=0.3).unwrapped
+    env = gym.make(ACL_CLIMB_ID, residual_scale=0.3).unwrapped
     env.reset(seed=0)
     table = env.gait.cycle()
     k = env._k0 + 1  # the reset ramp ends holding keyframe k0; the first step plays the next
@@ -132,7 +139,7 @@ def test_zero_action_is_the_open_loop_gait_and_residual_is_clipped() -> None:
 
 def test_out_of_range_actions_equal_clipped_actions() -> None:
     big = np.full((5, 20), 7.0, dtype=np.float32)
-    env_a, env_b = gym.make("acl_env/ACLClimb-v0"), gym.make("acl_env/ACLClimb-v0")
+    env_a, env_b = gym.make(ACL_CLIMB_ID), gym.make(ACL_CLIMB_ID)
     assert_same(rollout(env_a, 0, big), rollout(env_b, 0, np.clip(big, -1, 1)))
 
 
@@ -145,7 +152,7 @@ def test_out_of_range_actions_equal_clipped_actions() -> None:
     ],
 )
 def test_bad_actions_raise(action: np.ndarray, match: str) -> None:
-    env = gym.make("acl_env/ACLClimb-v0").unwrapped
+    env = gym.make(ACL_CLIMB_ID).unwrapped
     env.reset(seed=0)
     with pytest.raises(ValueError, match=match):
         env.step(action)
@@ -193,7 +200,7 @@ def test_mujoco_kinematics_fit_the_gait_backbone(env_id: str) -> None:
 
 
 def test_model_has_no_unnamed_elements() -> None:
-    model = gym.make("acl_env/ACLClimb-v0").unwrapped.model
+    model = gym.make(ACL_CLIMB_ID).unwrapped.model
     groups = {
         "body": model.nbody,
         "joint": model.njnt,
@@ -302,7 +309,7 @@ def test_open_loop_gait_climbs(env_id: str) -> None:
 
 
 def test_rgb_render() -> None:
-    env = gym.make("acl_env/ACLClimb-v0", render_mode="rgb_array", width=160, height=120)
+    env = gym.make(ACL_CLIMB_ID, render_mode="rgb_array", width=160, height=120)
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
@@ -312,8 +319,8 @@ def test_rgb_render() -> None:
 
 def test_phase_rate_option_keeps_zero_action_open_loop_and_sets_cadence() -> None:
     """PMTG option: one more action sets the keyframes advanced per step; 0 is the open loop."""
-    plain = gym.make("acl_env/ACLClimb-v0")
-    pmtg = gym.make("acl_env/ACLClimb-v0", phase_rate_range=(0.5, 1.5))
+    plain = gym.make(ACL_CLIMB_ID)
+    pmtg = gym.make(ACL_CLIMB_ID, phase_rate_range=(0.5, 1.5))
     assert pmtg.action_space.shape == (21,)
     assert_same(rollout(plain, 0, np.zeros((6, 20))), rollout(pmtg, 0, np.zeros((6, 21))))
     env = pmtg.unwrapped
@@ -395,3 +402,34 @@ def test_energy_is_absolute_actuator_work() -> None:
     env._table = np.tile(env.data.qpos[7:], (env.steps_per_cycle, 1))
     *_, info = env.step(np.zeros(20))
     assert info["energy"] < 1e-2
+
+
+@pytest.mark.parametrize("timestep", [0.001, 0.002, 0.0025, PHYSICS_TIMESTEP])
+def test_timestep_sets_the_physics_step_and_keeps_the_control_step(timestep: float) -> None:
+    env = gym.make(ACL_CLIMB_ID, timestep=timestep).unwrapped
+    assert env.model.opt.timestep == pytest.approx(timestep)
+    assert env.frame_skip * timestep == pytest.approx(0.1)
+    assert env.dt == pytest.approx(0.1)
+    env.reset(seed=0)
+    _, _, terminated, _, info = env.step(np.zeros(20))
+    assert not terminated and np.isfinite(info["slip"])
+
+
+@pytest.mark.parametrize("timestep", [0.003, 0.0, -0.002, 0.01, 0.0004, 0.1 / 7, float("nan")])
+def test_bad_timestep_raises_naming_it(timestep: float) -> None:
+    with pytest.raises(ValueError, match="timestep"):
+        ACLClimbEnv(timestep=timestep)
+
+
+def test_start_pose_clears_the_pole() -> None:
+    """The start-pose search loosens the helix until the placed chain clears the pole."""
+    pole, clearance = 0.075, 0.005
+    contact = pole + SEA_MODULE_RADIUS
+    angles, rotation, translation = clear_placement(
+        lambda radius: ACLGait(radius=radius), 0.0, contact, clearance, height=0.3
+    )
+    joints, ends, _ = forward_kinematics(angles, SEA_MODULE_LENGTH)
+    points = np.concatenate([ends[:1], joints, ends[1:]]) @ rotation.T + translation
+    np.testing.assert_allclose(rotation @ rotation.T, np.eye(3), atol=1e-12)
+    assert min_axis_distance(points) >= contact + clearance - 2e-3
+    assert points[:, 2].min() == pytest.approx(0.3)

@@ -622,13 +622,27 @@ def _validation_entry(result: dict[str, Any], candidates: int | None = None) -> 
     return out
 
 
+class _Dumper(yaml.SafeDumper):
+    """Lists on one line (``seeds: [0, 1, 2]``), mappings in blocks."""
+
+
+_Dumper.add_representer(
+    list, lambda dumper, data: dumper.represent_sequence("tag:yaml.org,2002:seq", data, True)
+)
+
+
+def dump_yaml(document: dict[str, Any]) -> str:
+    """YAML text of plain values (see :func:`acl_env.evaluation.jsonable`), keys in order."""
+    return yaml.dump(jsonable(document), Dumper=_Dumper, sort_keys=False)
+
+
 def write_tuned_gaits(path: str | Path, key: str, entry: dict[str, Any]) -> None:
     """Replace ``key`` in the YAML file (other entries kept), with the format's header comment."""
     path = Path(path)
     document = (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
-    document[key] = jsonable(entry)
+    document[key] = entry
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(HEADER + yaml.safe_dump(document, sort_keys=False))
+    path.write_text(HEADER + dump_yaml(document))
 
 
 def read_tuned_gaits(path: str | Path = DEFAULT_OUTPUT) -> dict[str, dict[str, Any]]:
@@ -689,8 +703,15 @@ def plot_frontier(
     ok = finite(complete)
     values = [t.value for t in complete if np.all(np.isfinite(point(t))) and point(t)[0] > 0]
     if len(ok):
-        sc = ax.scatter(ok[:, 0], ok[:, 1], c=values, s=14, cmap="viridis", zorder=2)
-        fig.colorbar(sc, ax=ax, label=settings.objective)
+        # Colours span the better 90 % of the gaits: one bad outlier would wash out the rest.
+        low, high = np.percentile(values, [10.0, 100.0])
+        if settings.direction == "minimize":
+            low, high = np.percentile(values, [0.0, 90.0])
+        sc = ax.scatter(
+            ok[:, 0], ok[:, 1], c=values, s=14, cmap="viridis", vmin=low, vmax=high, zorder=2
+        )
+        extend = "min" if settings.direction == "maximize" else "max"
+        fig.colorbar(sc, ax=ax, label=settings.objective, extend=extend)
         front = pareto_front(ok)
         ax.step(front[:, 0], front[:, 1], where="post", color="0.3", lw=1, label="frontier")
     out = finite(measured_out)
@@ -877,7 +898,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         raise SystemExit(1) from None
     entry = tuned_entry(study, settings, chosen, validation)
     write_tuned_gaits(args.output, key, entry)
-    print(yaml.safe_dump({key: jsonable(entry)}, sort_keys=False), end="")
+    print(dump_yaml({key: entry}), end="")
     if args.plot:
         plot = args.plot.format(key=key)
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())

@@ -208,6 +208,22 @@ def test_open_loop_numbers_equal_a_zero_action_rollout(tmp_path: Path) -> None:
             assert controllers[name][metric]["mean"] == pytest.approx(np.mean(values), abs=1e-9)
 
 
+def test_open_loop_takes_the_gait_kwargs_given(tmp_path: Path) -> None:
+    """--no-policy with a non-rolling gait: open-loop ACL plays it, and the tuned gait compared
+    is the non-rolling entry."""
+    noroll = "gait_kwargs:{'rolls_per_cycle': 0}"
+    tuned = tmp_path / "tuned.yml"
+    tuned.write_text(yaml.safe_dump({"acl": {"env_id": ACL_CLIMB_ID, "env_kwargs": {}}}))
+    argv = ["--no-policy", "--episodes", "1", "--env-kwargs", *SHORT_ARGS, noroll, *QUIET]
+    document = evaluate.main([*argv, "--tuned-gaits", str(tuned)])
+    assert document["env_kwargs"]["open_loop_acl"]["gait_kwargs"] == {"rolls_per_cycle": 0}
+    assert "gait_kwargs" not in document["env_kwargs"]["open_loop_rolling_helix"]
+    assert "open_loop_tuned" not in document["controllers"]
+    assert any("no 'acl_noroll' entry" in note for note in document["notes"])
+    touched = document["controllers"]["open_loop_acl"]["touched_arc_deg"]["mean"]
+    assert touched <= 90.0
+
+
 @pytest.fixture(scope="module")
 def policy_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """An untrained PPO policy folder for the short ACL env with the cadence option: model,

@@ -239,8 +239,9 @@ def build_controllers(
         base["reward_weights"] = dict(reward_weights)
     other_gait = {k: v for k, v in base.items() if k not in GAIT_KWARGS}
     controllers, notes = [], []
-    acl_kwargs = other_gait
+    acl_kwargs = base  # without a policy: the ACL env with --env-kwargs, gait kwargs included
     if folder is not None:
+        acl_kwargs = other_gait
         controllers.append(Controller("policy", folder.env_id, base, str(folder.path)))
         if env_setting(folder.env_id, base, "base_gait", "acl") == "acl":
             acl_id, acl_kwargs = folder.env_id, base

@@ -374,13 +374,15 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     # -- copies -------------------------------------------------------------------------------
 
     def __getstate__(self) -> dict[str, Any]:
-        """The constructor's arguments (EzPickle) plus the episode: the simulation data, with the
+        """The constructor's arguments (EzPickle) plus the episode: the simulation data and the
         model as this episode's randomisation left it, and the env's counters and RNG.
 
         A copy taken mid-episode (pickle, ``copy.deepcopy``) continues exactly where the original
         was: the same actions give the same observations, rewards, infos and later resets.
         """
-        episode = {k: v for k, v in self.__dict__.items() if k not in _NOT_COPIED}
+        episode = {
+            k: v for k, v in self.__dict__.items() if k not in _NOT_COPIED and not _mujoco_owned(v)
+        }
         return {**EzPickle.__getstate__(self), "episode": episode, "data": self.data}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -390,9 +392,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         if episode is None or data is None:
             return
         self.__dict__.update(episode)
-        # MjData pickles with its model: both replace the fresh ones, in the renderer too.
-        self.model, self.data = data.model, data
-        self.mujoco_renderer.model, self.mujoco_renderer.data = self.model, self.data
+        # Copied into the fresh env's own model and data, so that its views into them (and its
+        # renderer's) stay valid. MjData pickles with its model.
+        _copy_model(self.model, data.model)
+        mujoco.mj_copyData(self.data, self.model, data)
 
     # -- construction -------------------------------------------------------------------------
 
@@ -629,8 +632,44 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
 
 # Not in a copy's episode state: the simulation travels as MjData (with its model), the renderer
-# is the fresh env's (pointed at the copied data), the constructor's arguments are EzPickle's.
+# is the fresh env's, the constructor's arguments are EzPickle's.
 _NOT_COPIED = ("model", "data", "mujoco_renderer", "_ezpickle_args", "_ezpickle_kwargs")
+
+
+def _mujoco_owned(value: object, depth: int = 2) -> bool:
+    """Whether ``value`` is or holds (``depth`` levels down its attributes) MuJoCo memory: an
+    MjModel, an MjData, a struct or an array view of them. A copy keeps the fresh env's own such
+    objects, bound to its own model and data, instead of pickled duplicates."""
+    if type(value).__module__.startswith("mujoco"):
+        return True
+    if isinstance(value, np.ndarray):
+        while isinstance(value, np.ndarray):
+            value = value.base
+        return value is not None  # a view whose memory MuJoCo owns
+    if depth == 0 or isinstance(value, str | bytes | int | float | np.random.Generator):
+        return False
+    children = getattr(value, "__dict__", {}).values()
+    if isinstance(value, dict):
+        children = value.values()
+    elif isinstance(value, list | tuple):
+        children = value
+    return any(_mujoco_owned(child, depth - 1) for child in children)
+
+
+def _copy_model(dest: mujoco.MjModel, src: mujoco.MjModel) -> None:
+    """Every array and physics option of ``src`` into ``dest``, a model of the same structure
+    (MuJoCo has ``mj_copyData`` but no in-place model copy)."""
+    for name in dir(src):
+        value = getattr(src, name)
+        if isinstance(value, np.ndarray) and not name.startswith("_"):
+            getattr(dest, name)[...] = value
+    for name in dir(src.opt):
+        if not name.startswith("_"):
+            value = getattr(src.opt, name)
+            if isinstance(value, np.ndarray):
+                getattr(dest.opt, name)[...] = value
+            else:
+                setattr(dest.opt, name, value)
 
 
 def _sensor_slice(model: mujoco.MjModel, name: str) -> slice:

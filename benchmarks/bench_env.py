@@ -5,7 +5,8 @@
 1. **Env overhead.** For every step, from the same saved physics state, ``env.step`` and the raw
    physics of that step (the same ``mj_step`` calls: ``SLIP_SAMPLES`` x ``nstep=substeps`` with
    the same servo targets, nothing else) are timed back to back, alternating which goes first.
-   The ratio of their summed times per round is reported as the median over ``--rounds``.
+   The ratio of their summed wall times per round is reported as the median over ``--rounds``,
+   and the same for the thread's CPU time (robust to other processes taking the core).
 2. **Steps per second per core** of ``env.step`` at the default physics step and at the old
    2 ms step (``timestep=0.002``), in alternating blocks of the same run (median of rounds).
 3. **Process scaling:** total steps/s of Gymnasium's async vector env with 1 and 2 worker
@@ -43,24 +44,26 @@ def env_vs_raw(steps: int, rounds: int) -> dict[str, float]:
     action = np.zeros(env.action_space.shape, dtype=np.float32)
     substeps = env.frame_skip // SLIP_SAMPLES
     state = np.empty(mujoco.mj_stateSize(model, STATE))
-    ratios, env_ms, raw_ms = [], [], []
+    ratios, cpu_ratios, env_ms, raw_ms = [], [], [], []
     for r in tqdm(range(rounds), desc="env vs raw", leave=False):
-        t_env = t_raw = 0.0
+        t_env = t_raw = c_env = c_raw = 0.0
         for k in range(steps):
             mujoco.mj_getState(model, data, state, STATE)
             target = np.clip(env._base_target(), -np.pi / 2, np.pi / 2)  # the zero residual
             env_first = (k + r) % 2 == 0
             for side in ("env", "raw") if env_first else ("raw", "env"):
                 if side == "env":
-                    start = time.perf_counter()
+                    start, cpu = time.perf_counter(), time.thread_time()
                     _, _, terminated, truncated, _ = env.step(action)
                     t_env += time.perf_counter() - start
+                    c_env += time.thread_time() - cpu
                 else:
                     data.ctrl[:] = target
-                    start = time.perf_counter()
+                    start, cpu = time.perf_counter(), time.thread_time()
                     for _ in range(SLIP_SAMPLES):
                         mujoco.mj_step(model, data, nstep=substeps)
                     t_raw += time.perf_counter() - start
+                    c_raw += time.thread_time() - cpu
                 if side != ("raw" if env_first else "env"):  # same start for the other side
                     mujoco.mj_setState(model, data, state, STATE)
                     mujoco.mj_forward(model, data)  # the env reads derived quantities (COM)
@@ -68,11 +71,13 @@ def env_vs_raw(steps: int, rounds: int) -> dict[str, float]:
             if terminated or truncated:
                 env.reset(seed=r * steps + k)
         ratios.append(t_env / t_raw)
+        cpu_ratios.append(c_env / c_raw)
         env_ms.append(1e3 * t_env / steps)
         raw_ms.append(1e3 * t_raw / steps)
     env.close()
     return {
         "env_over_raw": float(np.median(ratios)),
+        "env_over_raw_cpu_time": float(np.median(cpu_ratios)),
         "env_over_raw_rounds": [float(x) for x in ratios],
         "env_step_ms": float(np.median(env_ms)),
         "raw_physics_ms": float(np.median(raw_ms)),

@@ -364,6 +364,20 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._root_body = self._elements.snake_bodies[0]
         self._imu_quat = _sensor_slice(self.model, IMU_QUAT_SENSOR)
         self._imu_gyro = _sensor_slice(self.model, IMU_GYRO_SENSOR)
+        # Views into MjData's fixed-size buffers, made once: every attribute access of MjData
+        # builds a new array view, which the per-step path pays for many times over.
+        data = self.data
+        self._joint_pos, self._joint_vel = data.qpos[7:], data.qvel[6:]
+        self._torque = data.actuator_force
+        self._com_view = data.subtree_com[self._root_body]
+        self._pyramidal = False  # friction cone, read at every reset
+        self._stability = termination.Stability(data)
+        self._imu_view = np.concatenate(
+            [
+                np.arange(self._imu_quat.start, self._imu_quat.stop),
+                np.arange(self._imu_gyro.start, self._imu_gyro.stop),
+            ]
+        )
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
         self._table = self._gait_table()
         self._step_count = 0
@@ -426,6 +440,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
 
     def reset_model(self) -> np.ndarray:
         rng = self.np_random
+        # Read per contact sample; set here so that a cone changed after construction counts.
+        self._pyramidal = self.model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
         physics = draw_physics(self.randomization, self._nominal_physics, rng)
         apply_physics(self.model, self.data, self._elements, physics)
         self._noise_std = sensor_noise_std(self.randomization, physics["kp"], self.n_joints)
@@ -492,21 +508,22 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             raise ValueError(
                 f"action must have shape {self.action_space.shape}, got {action.shape}"
             )
-        if not np.all(np.isfinite(action)):
+        if not np.isfinite(action).all():
             raise ValueError(f"action must be finite, got {action}")
-        action = np.clip(action, -1.0, 1.0)
+        action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its dispatch
         base = self._base_target()
         residual = self.residual_scale * action[: self.n_joints]
-        target = np.clip(base + residual, -JOINT_LIMIT, JOINT_LIMIT)
+        target = np.minimum(np.maximum(base + residual, -JOINT_LIMIT), JOINT_LIMIT)
         rate = self._phase_rate(action)
         phase = self._keyframe / self.steps_per_cycle
 
         model, data = self.model, self.data
-        com_before = self._com()[2]
-        warnings_before, time_before = termination.warning_count(data), data.time
+        com_before = float(self._com_view[2])
+        self._stability.start()
         data.ctrl[:] = target
         substeps = self.frame_skip // SLIP_SAMPLES
         sample_dt = substeps * model.opt.timestep
+        torque, joint_vel = self._torque, self._joint_vel
         slip = energy = 0.0
         touched = grounded = False
         for _ in range(SLIP_SAMPLES):
@@ -515,16 +532,16 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             slip += speed * sample_dt
             touched |= on_pole
             grounded |= on_floor
-            energy += float(np.abs(data.actuator_force) @ np.abs(data.qvel[6:])) * sample_dt
+            energy += float(np.abs(torque) @ np.abs(joint_vel)) * sample_dt
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
-        unstable = termination.unstable(data, warnings_before, time_before)
-        com = self._com()
-        climb = 0.0 if unstable else float(com[2] - com_before)
+        unstable = self._stability.unstable()
+        com_height = float(self._com_view[2])
+        climb = 0.0 if unstable else com_height - com_before
         slip = 0.0 if unstable else slip
         fell = not unstable and termination.fell(
-            com[2], self._com_start, self.fall_distance, touched, grounded
+            com_height, self._com_start, self.fall_distance, touched, grounded
         )
         terms = reward_terms(self.reward_weights, StepMeasures(climb, slip))
         reward = sum(terms.values())
@@ -535,7 +552,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             "climb": climb,
             "slip": slip,
             "energy": energy,
-            "com_height": float(com[2]),
+            "com_height": com_height,
             "phase": phase,
             "phase_rate": rate,
             "fell": fell,
@@ -580,18 +597,16 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         if data.ncon == 0:
             return 0.0, False, False
         contact = data.contact
-        geom = contact.geom
-        # One lookup of what each contact is (see __init__).
-        pairs = (geom[:, 0] * self._ngeom + geom[:, 1]).tolist()
+        geoms = contact.geom.tolist()
         rows = contact.efc_address.tolist()
         vel = data.efc_vel.tolist()
-        pyramidal = self.model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
-        friction = contact.friction.tolist() if pyramidal else None
+        friction = contact.friction.tolist() if self._pyramidal else None
+        ngeom, pair_kind = self._ngeom, self._pair_kind
         total, count, on_floor = 0.0, 0, False
-        for i, (pair, row) in enumerate(zip(pairs, rows, strict=True)):
+        for i, ((g1, g2), row) in enumerate(zip(geoms, rows, strict=True)):
             if row < 0:  # excluded by a constraint: not active
                 continue
-            kind = self._pair_kind[pair]
+            kind = pair_kind[g1 * ngeom + g2]  # what the contact is (see __init__)
             if kind == 1:
                 if friction is None:
                     total += math.hypot(vel[row + 1], vel[row + 2])
@@ -610,11 +625,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         data = self.data
         angle = 2.0 * np.pi * self._keyframe / self.steps_per_cycle
         parts = [
-            data.qpos[7:],
-            data.qvel[6:],
-            data.actuator_force,
-            data.sensordata[self._imu_quat],
-            data.sensordata[self._imu_gyro],
+            self._joint_pos,
+            self._joint_vel,
+            self._torque,
+            data.sensordata[self._imu_view],
             [math.cos(angle), math.sin(angle)],
             self._base_target(),
         ]

@@ -2,21 +2,40 @@
 
 from __future__ import annotations
 
+import math
+
 import mujoco
-import numpy as np
-
-
-def unstable(data: mujoco.MjData, warnings_before: int, time_before: float) -> bool:
-    """A MuJoCo warning was raised during the step, MuJoCo reset the diverged state (its time
-    went back to 0), or the state is not finite."""
-    diverged = warning_count(data) > warnings_before or data.time <= time_before
-    finite = bool(np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel)))
-    return diverged or not finite
 
 
 def warning_count(data: mujoco.MjData) -> int:
     """All MuJoCo warnings raised so far on ``data``."""
     return int(data.warning.number.sum())
+
+
+class Stability:
+    """Watches one ``MjData`` over a step: unstable when MuJoCo raised a warning, reset the
+    diverged state (its time went back), or left a non-finite state.
+
+    Holds views of the data's buffers, made once: the check runs on every env step.
+    """
+
+    def __init__(self, data: mujoco.MjData) -> None:
+        self._data = data
+        self._warnings = data.warning.number
+        self._qpos, self._qvel = data.qpos, data.qvel
+        self._before = (0, 0.0)
+
+    def start(self) -> None:
+        """Remember the warning count and time before the step."""
+        self._before = (int(self._warnings.sum()), self._data.time)
+
+    def unstable(self) -> bool:
+        """Whether the physics became unstable since :meth:`start`."""
+        warnings, time = self._before
+        if int(self._warnings.sum()) > warnings or self._data.time <= time:
+            return True
+        # MuJoCo resets values beyond 1e10, so these sums are finite iff every entry is.
+        return not math.isfinite(float(self._qpos.sum()) + float(self._qvel.sum()))
 
 
 def fell(
@@ -28,4 +47,4 @@ def fell(
 ) -> bool:
     """The centre of mass dropped ``fall_distance`` below its start, a shell touched the floor,
     or no shell touched the pole during the step."""
-    return bool(com_height < com_start - fall_distance or touched_floor or not touched_pole)
+    return com_height < com_start - fall_distance or touched_floor or not touched_pole

@@ -10,15 +10,21 @@ import mujoco
 import numpy as np
 import pytest
 
-from acl_env.gait.kinematics import forward_kinematics
-from acl_env.model import (
+from acl_env.constants import (
+    CONTACT_TIMECONST,
+    IMPRATIO,
     MODULE_MASS,
+    PEAK_TORQUE,
+    PHYSICS_TIMESTEP,
     POLE_GEOM,
+    SEA_MODULE_RADIUS,
     actuator_name,
-    build_model,
     joint_name,
     link_name,
+    shell_name,
 )
+from acl_env.gait.kinematics import forward_kinematics
+from acl_env.model import build_model
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -41,6 +47,21 @@ def test_chain_structure(n_joints: int) -> None:
     assert model.geom_friction[model.geom(POLE_GEOM).id, 0] == pytest.approx(0.8)
     assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
     assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+
+
+@pytest.mark.parametrize("timestep", [None, 0.002])
+def test_constants_drive_the_model(timestep: float | None) -> None:
+    """Physics step, contact and module figures come from acl_env.constants (one home)."""
+    model = build_model() if timestep is None else build_model(timestep=timestep)
+    assert model.opt.timestep == (PHYSICS_TIMESTEP if timestep is None else timestep)
+    assert model.opt.impratio == IMPRATIO
+    for geom in (POLE_GEOM, shell_name(0), shell_name(20)):
+        assert model.geom(geom).solref[0] == CONTACT_TIMECONST
+    assert model.geom(shell_name(5)).size[0] == SEA_MODULE_RADIUS
+    assert model.body(link_name(5)).mass[0] == pytest.approx(MODULE_MASS)
+    np.testing.assert_array_equal(
+        model.actuator(actuator_name(0)).forcerange, [-PEAK_TORQUE, PEAK_TORQUE]
+    )
 
 
 def test_chain_matches_numpy_forward_kinematics() -> None:

@@ -13,6 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from acl_env.constants import CONTROL_DT
 from acl_env.envs import ACLClimbEnv
 from acl_env.envs.acl_climb import (
     CYCLES_PER_EPISODE_RANGE,
@@ -24,8 +25,10 @@ from acl_env.envs.acl_climb import (
     N_JOINTS_RANGE,
     POLE_RADIUS_RANGE,
     RESIDUAL_SCALE_MAX,
+    SLIP_SAMPLES,
     SQUEEZE_RANGE,
     STEPS_PER_CYCLE_RANGE,
+    TIMESTEP_RANGE,
 )
 from acl_env.envs.randomize import DEFAULT_RANDOMIZATION, RANGE_BOUNDS, SENSOR_NOISE_MAX
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
@@ -250,6 +253,8 @@ def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
         "width": draw(st.integers(*IMAGE_SIZE_RANGE)),
         "height": draw(st.integers(*IMAGE_SIZE_RANGE)),
         "camera_name": draw(st.sampled_from(CAMERAS)),
+        # Documented as 0.1 s / (5 k) within the range: 5 contact samples of whole steps.
+        "timestep": draw(st.integers(4, 40).map(lambda k: CONTROL_DT / (SLIP_SAMPLES * k))),
     }
     # squeeze must leave a helix radius for every pole the episodes can draw.
     dr = kwargs["domain_randomization"]
@@ -331,6 +336,12 @@ def bad_pair(limits: tuple[float, float]) -> st.SearchStrategy[Any]:
     )
 
 
+def whole_samples(timestep: float) -> bool:
+    """The documented rule: 0.1 s is 5 k physics steps (5 contact samples of k steps)."""
+    steps = round(CONTROL_DT / timestep)
+    return steps % SLIP_SAMPLES == 0 and math.isclose(steps * timestep, CONTROL_DT, rel_tol=1e-9)
+
+
 BAD_ARGUMENTS: dict[str, st.SearchStrategy[Any]] = {
     "base_gait": st.text(max_size=8).filter(lambda s: s not in ("acl", "rolling_helix", "none"))
     | st.integers()
@@ -348,6 +359,8 @@ BAD_ARGUMENTS: dict[str, st.SearchStrategy[Any]] = {
     "start_phase_range": outside(0.0, 1.0),
     "reset_noise_scale": outside(0.0, math.pi / 2),
     "fall_distance": outside(0.0, FALL_DISTANCE_MAX, open_low=True),
+    "timestep": outside(*TIMESTEP_RANGE, open_low=True)
+    | st.floats(*TIMESTEP_RANGE).filter(lambda t: not whole_samples(t)),
     "privileged_obs": st.integers() | st.text(max_size=5) | st.floats(),
     "width": outside_int(*IMAGE_SIZE_RANGE),
     "height": outside_int(*IMAGE_SIZE_RANGE),

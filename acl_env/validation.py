@@ -93,7 +93,8 @@ def check_choice(name: str, value: object, choices: Collection[T]) -> T:
     """One of ``choices``: a value of none of their types is a ``TypeError``, another a
     ``ValueError``."""
     accepted = ", ".join(map(repr, choices))
-    if not any(type(value) is type(choice) for choice in choices):
+    # A str subclass (NumPy's) passes for a str; a bool never passes for an int.
+    if not any(isinstance(value, type(c)) and _is_bool(value) == _is_bool(c) for c in choices):
         raise TypeError(f"{name} must be one of {accepted}; got {_kind(value)}")
     if value not in choices:
         raise ValueError(f"{name} must be one of {accepted}; got {value!r}")

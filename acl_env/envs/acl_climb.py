@@ -156,6 +156,12 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     physics became *unstable*: a MuJoCo warning or a non-finite state (``info["unstable"]``; the
     step's reward terms are then 0).
 
+    ## Copies
+    ``pickle`` and ``copy.deepcopy`` of the env, taken at any point of an episode, continue
+    exactly where the original was: the same actions give the same observations, rewards, infos
+    and later resets (branching rollouts from a mid-episode state). ``info`` values are plain
+    Python ``float`` and ``bool``, so ``json.dumps(info)`` works.
+
     ## Arguments
     | argument | default | accepted | meaning |
     |---|---|---|---|

@@ -5,6 +5,7 @@ in tests/test_env.py."""
 from __future__ import annotations
 
 import copy
+import itertools
 import json
 import pickle
 from collections.abc import Callable
@@ -145,3 +146,23 @@ def test_copy_through_gym_make_wrappers() -> None:
     run(env, actions[:3])
     clone = copy.deepcopy(env)
     assert_same_steps(run(env, actions[3:]), run(clone, actions[3:]))
+
+
+def test_every_camera_renders_its_own_view_at_the_smallest_size() -> None:
+    """``camera_name`` picks the camera (each view differs); 1 x 1 is the smallest image."""
+    model = ACLClimbEnv().model
+    cameras = [model.camera(i).name for i in range(model.ncam)]
+    assert len(cameras) >= 2
+    frames = {}
+    for camera in cameras:
+        env = ACLClimbEnv(render_mode="rgb_array", width=64, height=48, camera_name=camera)
+        env.reset(seed=0)
+        frames[camera] = env.render()
+        assert frames[camera].shape == (48, 64, 3) and frames[camera].std() > 5.0
+        env.close()
+    for a, b in itertools.pairwise(cameras):
+        assert not np.array_equal(frames[a], frames[b]), (a, b)
+    env = ACLClimbEnv(render_mode="rgb_array", width=1, height=1)
+    env.reset(seed=0)
+    assert env.render().shape == (1, 1, 3)
+    env.close()

@@ -33,6 +33,7 @@ from acl_env.envs.acl_climb import (
 from acl_env.envs.randomize import DEFAULT_RANDOMIZATION, RANGE_BOUNDS, SENSOR_NOISE_MAX
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
 from acl_env.gait.gaits import SEA_MODULE_DIAMETER, SEA_MODULE_RADIUS
+from acl_env.model import build_model
 from acl_env.validation import (
     check_bool,
     check_choice,
@@ -53,7 +54,8 @@ PROPERTY = settings(
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 FAST_REJECT = settings(PROPERTY, max_examples=300)
-CAMERAS = ("track", "side", "top")
+_MODEL = build_model()
+CAMERAS = tuple(_MODEL.camera(i).name for i in range(_MODEL.ncam))
 
 
 @pytest.fixture(autouse=True, scope="module")

@@ -114,8 +114,13 @@ def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
     for _ in range(30):
         obs, reward, _, _, info = env.step(env.action_space.sample() * 0 + rng.uniform(-1, 1, 20))
         terms = [v for k, v in info.items() if k.startswith("reward_")]
-        assert sorted(k for k in info if k.startswith("reward_")) == ["reward_climb", "reward_slip"]
+        assert sorted(k for k in info if k.startswith("reward_")) == [
+            "reward_climb",
+            "reward_roll",
+            "reward_slip",
+        ]
         assert reward == sum(terms)
+        assert info["reward_roll"] == 0.0  # off by default (the non-rolling task weighs it)
         assert info["reward_climb"] == 2.0 * info["climb"]
         assert info["reward_slip"] == -3.0 * info["slip"]
         assert info["slip"] >= 0.0 and info["energy"] >= 0.0

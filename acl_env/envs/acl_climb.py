@@ -75,6 +75,7 @@ KP_MAX = 200.0  # N m/rad
 SQUEEZE_RANGE = (-0.05, 0.05)  # m
 RESIDUAL_SCALE_MAX = math.pi  # rad
 FALL_DISTANCE_MAX = 4.0  # m: the pole's height
+ROLL_LIMIT_MAX = 3600.0  # deg: ten turns, more than any episode can roll (about 2 per cycle)
 IMAGE_SIZE_RANGE = (1, 4096)  # pixels
 GAIT_SAMPLES_RANGE = (100, 1000)  # the ACL gait's n_samples
 # The env's own settings: a gait_kwargs entry for them would disagree with the model.
@@ -135,10 +136,23 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``reward_climb = w_climb * climb``: rise of the snake's centre of mass along the pole (m), and
     ``reward_slip = -w_slip * slip``: mean sliding distance of the snake-pole contacts (m), from
     MuJoCo's contact velocities (tangential ``efc_vel`` rows), sampled 5 times per step. Weights in
-    ``reward_weights`` (default 1 and 1). ``info`` carries every ``reward_<term>``, the raw
-    ``climb`` and ``slip``, ``energy`` (J: actuator work sum |tau qdot| dt, as spent by motors
-    that do not regenerate), ``com_height``, ``phase``
+    ``reward_weights`` (default 1 and 1), and ``reward_roll = -w_roll * roll`` (default weight 0,
+    so off): the growth over the step of the range each module's roll has swept since the
+    episode started, mean over modules (rad; see "Body roll"). ``info`` carries every
+    ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``, ``energy`` (J: actuator work
+    sum |tau qdot| dt, as spent by motors that do not regenerate), ``com_height``, ``phase``
     (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
+
+    ## Body roll
+    Measured in the simulation, not read from the gait's command (a "non-rolling" command can
+    hide a roll, docs/gait.md#hidden-roll): after every step each module's roll about its own axis
+    relative to the pole surface (the angle from the pole's outward normal to the link's z axis,
+    ``acl_env.gait.kinematics.link_roll_angles``, the gait's own roll diagnostic, here from
+    MuJoCo's link frames) is unwrapped since the episode started. ``info["roll_span_deg"]`` is
+    the largest range any module's roll has swept, ``info["body_rolls"]`` the body's net turns
+    about its axis (mean over modules; the rolling ACL reads -1 per cycle, the non-rolling one
+    ~0). The range a module's roll sweeps is the body-frame counterpart of the arc of its skin
+    that touches the pole (``touched_arc_deg`` in ``acl_env.evaluation``, from contacts).
 
     ## Starting State
     The first keyframe (phase ``k0 / steps_per_cycle``, ``k0`` drawn from the first
@@ -154,7 +168,31 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     centre of mass is ``fall_distance`` below where the episode started, a shell touches the
     floor, or no shell touched the pole at any sample of a step (``info["fell"]``); or when the
     physics became *unstable*: a MuJoCo warning or a non-finite state (``info["unstable"]``; the
-    step's reward terms are then 0).
+    step's reward terms are then 0); or, with ``roll_limit`` set, when the body *rolled*: some
+    module's roll swept more than ``roll_limit`` degrees (``info["rolled"]``).
+
+    ## Non-rolling task (``acl_env/ACLClimbNoRoll-v1``)
+    The paper's future work: climb without rolling, so that sensors can sit on the part of each
+    module's skin that never touches the pole. Registered with ``acl_env.NOROLL_KWARGS``:
+
+    * base gait: ACL with ``rolls_per_cycle=0`` (the roll of the curvature wave compensated, so
+      the body truly does not roll) and larger waves, which is what makes it climb at all without
+      the roll: ``amp_pitch`` 0.03 m, ``amp_radial`` 0.015 m, ``squeeze`` 0.004 m. A placeholder
+      from issue 11's open-loop table until the tuner's non-rolling entry (``acl_noroll`` in
+      ``train/configs/tuned_gaits.yml``) lands; open loop (2 cycles, seeds 0-1): 3.7-3.9 cm per
+      cycle, slip 6.8 cm per cycle, roll swept <= 38 deg, touched arc <= 40 deg, 0.001 turns per
+      cycle (the default non-rolling gait: 0.6 cm, 18 deg, 20 deg; the rolling ACL: 19.8 cm and
+      -1.0 turn per cycle, 730 deg swept, 360 deg touched).
+    * reward weights ``{"climb": 1, "slip": 0.25, "roll": 0.05}``. Climbing by rolling is worth
+      ~0.2 m per turn (the rolling ACL), so rolling pays only while ``w_roll`` is below
+      0.2 / (2 pi) = 0.03 per rad; 0.05 makes every turn cost more than it climbs. The open loop
+      sweeps ~0.45 rad once (its waves' own twist), 0.02 of reward per episode. Slip weighs 0.25:
+      the non-rolling gait inches by sliding the sections between its anchors (1.7 m of slip per
+      metre climbed), and with slip weighed 1 its reward is negative, which would make ending the
+      episode (falling, rolling) pay.
+    * ``roll_limit`` 90 deg: the issue's bound on the touched arc, in the body frame. The episode
+      ends when a module's roll sweeps more (the open loop sweeps 38); whatever rolling could
+      gain after that is lost, and evaluation counts such episodes (``rolled``).
 
     ## Copies
     ``pickle`` and ``copy.deepcopy`` of the env, taken at any point of an episode, continue
@@ -183,6 +221,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     | fall_distance | 0.2 | (0, 4] | m of centre-of-mass drop that counts as a fall |
     | phase_rate_range | None | None or (low, high) | keyframes per step: policy sets the cadence |
     | timestep | 1/300 | 0.1 s / (5 k), 0.5-5 ms | physics step, s (v0: 0.002) |
+    | roll_limit | None | None or (0, 3600] | deg a module's roll may sweep before the end |
     | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
     | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
     | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
@@ -245,6 +284,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         fall_distance: float = 0.2,
         phase_rate_range: tuple[float, float] | None = None,
         timestep: float = PHYSICS_TIMESTEP,
+        roll_limit: float | None = None,
         render_mode: str | None = None,
         width: int = 640,
         height: int = 480,
@@ -270,6 +310,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             fall_distance,
             phase_rate_range,
             timestep,
+            roll_limit,
             render_mode,
             width,
             height,
@@ -313,6 +354,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         )
         self.fall_distance = check_positive("fall_distance", fall_distance, FALL_DISTANCE_MAX)
         self.phase_rate_range = _phase_rate_range(phase_rate_range, self.steps_per_cycle)
+        self.roll_limit = (
+            None if roll_limit is None else check_positive("roll_limit", roll_limit, ROLL_LIMIT_MAX)
+        )
         if render_mode is not None:
             check_choice("render_mode", render_mode, tuple(self.metadata["render_modes"]))
         check_int("width", width, *IMAGE_SIZE_RANGE)
@@ -378,6 +422,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self._com_view = data.subtree_com[self._root_body]
         self._pyramidal = False  # friction cone, read at every reset
         self._stability = termination.Stability(data)
+        self._body_roll = termination.BodyRoll(self.model, data, n + 1)
+        self._roll = termination.RollSpan.begin(np.zeros(n + 1))  # set by each reset
         self._imu_view = np.concatenate(
             [
                 np.arange(self._imu_quat.start, self._imu_quat.stop),
@@ -481,6 +527,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         # The ramp ends holding keyframe k0: the first step plays the next one.
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
         self._com_start = self._com()[2]
+        self._roll = termination.RollSpan.begin(self._body_roll.angles())
         return self._get_obs()
 
     def _ramp_in(self, start: np.ndarray, target: np.ndarray) -> None:
@@ -549,9 +596,12 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         fell = not unstable and termination.fell(
             com_height, self._com_start, self.fall_distance, touched, grounded
         )
-        terms = reward_terms(self.reward_weights, StepMeasures(climb, slip))
+        roll = 0.0 if unstable else self._roll.update(self._body_roll.angles())
+        roll_span = float(self._roll.span_deg.max())
+        rolled = not unstable and termination.rolled(roll_span, self.roll_limit)
+        terms = reward_terms(self.reward_weights, StepMeasures(climb, slip, roll))
         reward = sum(terms.values())
-        terminated = fell or unstable
+        terminated = fell or unstable or rolled
         truncated = self._step_count >= self.steps_per_cycle * self.cycles_per_episode
         info = {
             **terms,
@@ -563,6 +613,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             "phase_rate": rate,
             "fell": fell,
             "unstable": unstable,
+            "roll": roll,
+            "roll_span_deg": roll_span,
+            "body_rolls": self._roll.body_rolls,
+            "rolled": rolled,
         }
         obs = self._get_obs() if not unstable else np.zeros(self.observation_space.shape)
         if self.render_mode == "human":

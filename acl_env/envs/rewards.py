@@ -18,6 +18,9 @@ class StepMeasures(NamedTuple):
 
     climb: float  # m: rise of the snake's centre of mass along the pole
     slip: float  # m: mean sliding distance of the snake-pole contacts
+    # rad: growth of the modules' swept roll range this step (termination.RollSpan), mean over
+    # modules; 0 when the physics was unstable
+    roll: float = 0.0
 
 
 def climb_term(step: StepMeasures) -> float:
@@ -30,11 +33,21 @@ def slip_term(step: StepMeasures) -> float:
     return -step.slip
 
 
+def roll_term(step: StepMeasures) -> float:
+    """Penalty: the growth of the body's swept roll range on the pole (rad), negated. Summed over
+    an episode it is minus the mean over modules of the range each module's roll swept, the
+    body-frame counterpart of the touched arc (acl_env.evaluation)."""
+    return -step.roll
+
+
 REWARD_TERMS: dict[str, Callable[[StepMeasures], float]] = {
     "climb": climb_term,
     "slip": slip_term,
+    "roll": roll_term,
 }
-DEFAULT_REWARD_WEIGHTS: dict[str, float] = {"climb": 1.0, "slip": 1.0}
+# roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v1), where rolling is what
+# the task forbids; with weight 0 the reward equals climb and slip's to the bit.
+DEFAULT_REWARD_WEIGHTS: dict[str, float] = {"climb": 1.0, "slip": 1.0, "roll": 0.0}
 
 
 def check_reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:

@@ -1,10 +1,16 @@
-"""When a climbing episode ends early: the snake fell, or the physics became unstable."""
+"""When a climbing episode ends early: the snake fell, the physics became unstable, or (with a
+``roll_limit``) the body rolled on the pole."""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import mujoco
+import numpy as np
+
+from acl_env.constants import link_name, shell_name
+from acl_env.gait.kinematics import link_roll_angles
 
 
 def warning_count(data: mujoco.MjData) -> int:
@@ -48,3 +54,64 @@ def fell(
     """The centre of mass dropped ``fall_distance`` below its start, a shell touched the floor,
     or no shell touched the pole during the step."""
     return com_height < com_start - fall_distance or touched_floor or not touched_pole
+
+
+class BodyRoll:
+    """Each module's roll about its own axis relative to the pole surface, read from MuJoCo.
+
+    The angle of :func:`acl_env.gait.kinematics.link_roll_angles` (the gait's roll diagnostic),
+    from the links' simulated frames (``xmat``) and shell centres (``geom_xpos``): what the body
+    does, not what the gait commands. Holds views of the data's buffers, made once.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, n_modules: int) -> None:
+        self._bodies = np.array([model.body(link_name(k)).id for k in range(n_modules)])
+        self._shells = np.array([model.geom(shell_name(k)).id for k in range(n_modules)])
+        self._xmat, self._geom_xpos = data.xmat, data.geom_xpos
+
+    def angles(self) -> np.ndarray:
+        """Roll of every module (head first), rad in ``(-pi, pi]``."""
+        frames = self._xmat[self._bodies].reshape(-1, 3, 3)
+        return link_roll_angles(frames, self._geom_xpos[self._shells])
+
+
+@dataclass
+class RollSpan:
+    """Per module, the roll unwrapped since the episode started and the range it swept (rad).
+
+    Plain arrays (no MuJoCo views), so a copy of the env carries them. Sampled once per env step:
+    unwrapping needs less than half a turn per step (a rolling gait turns ~1.6 deg per step).
+    """
+
+    start: np.ndarray
+    unwrapped: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+
+    @classmethod
+    def begin(cls, angles: np.ndarray) -> RollSpan:
+        return cls(angles.copy(), angles.copy(), angles.copy(), angles.copy())
+
+    def update(self, angles: np.ndarray) -> float:
+        """Add a sample; return the growth of the mean span over modules (rad, >= 0)."""
+        before = float(np.mean(self.high - self.low))
+        step = (angles - self.unwrapped + np.pi) % (2.0 * np.pi) - np.pi
+        self.unwrapped += step
+        np.minimum(self.low, self.unwrapped, out=self.low)
+        np.maximum(self.high, self.unwrapped, out=self.high)
+        return float(np.mean(self.high - self.low)) - before
+
+    @property
+    def span_deg(self) -> np.ndarray:
+        """Each module's swept roll range (max - min since the start), degrees."""
+        return np.degrees(self.high - self.low)
+
+    @property
+    def body_rolls(self) -> float:
+        """Net turns of the body about its own axis since the start (mean over modules)."""
+        return float(np.mean(self.unwrapped - self.start) / (2.0 * np.pi))
+
+
+def rolled(span_deg: float, roll_limit: float | None) -> bool:
+    """A module's swept roll range exceeds ``roll_limit`` degrees (never when it is None)."""
+    return roll_limit is not None and span_deg > roll_limit

@@ -179,15 +179,26 @@ def surface_roll_angles(
     the link) to the link's z axis. Returned in ``(-pi, pi]``, shape ``(n_joints + 1,)``.
     """
     chain = place_chain(angles, backbone, module_length)
-    world, pts = chain.frames, chain.points
-    mids = 0.5 * (pts[:-1] + pts[1:])
-    x_axis, z_axis = world[:, :, 0], world[:, :, 2]
-    radial = mids * np.array([1.0, 1.0, 0.0])
-    radial -= np.sum(radial * x_axis, axis=1, keepdims=True) * x_axis
-    radial /= np.linalg.norm(radial, axis=1, keepdims=True)
-    sin = np.sum(np.cross(radial, z_axis) * x_axis, axis=1)
-    cos = np.sum(radial * z_axis, axis=1)
-    return np.arctan2(sin, cos)
+    pts = chain.points
+    return link_roll_angles(chain.frames, 0.5 * (pts[:-1] + pts[1:]))
+
+
+def link_roll_angles(frames: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """Roll angle (rad) of links about their own x axis, from the pole's outward normal.
+
+    ``frames`` ``(N, 3, 3)``: the links' world rotations (columns: the link's x, y, z axes);
+    ``centres`` ``(N, 3)``: the links' midpoints; the pole's axis is the world z axis. The roll is
+    the angle about x from the outward radial direction (projected normal to the link) to the
+    link's z axis, in ``(-pi, pi]``. Shared by the gait's diagnostic and the simulated snake
+    (:class:`acl_env.envs.termination.BodyRoll`, from MuJoCo's link frames).
+    """
+    # With r the horizontal radial vector and r' its part normal to x, the angle's sine is
+    # (r' x z) . x = r' . (z x x) = r . y (x is normal to y) and its cosine r' . z = r . z:
+    # neither the projection nor a normalisation changes atan2 of the pair.
+    x, y = centres[:, 0:1], centres[:, 1:2]
+    sin = x * frames[:, 0, 1:2] + y * frames[:, 1, 1:2]
+    cos = x * frames[:, 0, 2:3] + y * frames[:, 1, 2:3]
+    return np.arctan2(sin[:, 0], cos[:, 0])
 
 
 def count_body_rolls(table: np.ndarray, backbones: np.ndarray, module_length: float) -> float:

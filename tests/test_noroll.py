@@ -1,0 +1,79 @@
+"""The non-rolling task (issue 11): the measured body roll, its reward term and termination."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, NOROLL_KWARGS
+from acl_env.evaluation import run_episode, zero_policy
+
+SHORT = {"steps_per_cycle": 40, "cycles_per_episode": 2}  # 40 keyframes: ~9 deg of roll per step
+
+
+def last_info(env: gym.Env, seed: int = 0) -> tuple[dict, int]:
+    """The final info of an open-loop episode and its step count."""
+    infos: list[dict] = []
+    episode = run_episode(env, zero_policy(env), seed, lambda env, obs, a, info: infos.append(info))
+    return infos[-1], episode.steps
+
+
+def test_noroll_id_is_registered_with_its_kwargs() -> None:
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **SHORT)
+    base = env.unwrapped
+    assert base.gait_kwargs["rolls_per_cycle"] == 0
+    assert base.reward_weights["roll"] == NOROLL_KWARGS["reward_weights"]["roll"] > 0.0
+    assert base.roll_limit == NOROLL_KWARGS["roll_limit"]
+    check_env(base, skip_render_check=True)
+
+
+def test_roll_reads_zero_without_roll_and_one_turn_per_cycle_with_it() -> None:
+    info, steps = last_info(gym.make(ACL_CLIMB_NOROLL_ID, **SHORT))
+    cycles = steps / SHORT["steps_per_cycle"]
+    assert steps == 80 and not info["rolled"]
+    assert abs(info["body_rolls"] / cycles) < 0.05
+    assert info["roll_span_deg"] < 90.0
+    info, steps = last_info(gym.make(ACL_CLIMB_ID, **SHORT))
+    cycles = steps / SHORT["steps_per_cycle"]
+    assert abs(info["body_rolls"]) / cycles == pytest.approx(1.0, abs=0.1)
+    assert info["roll_span_deg"] > 360.0 and not info["rolled"]  # no roll_limit: never ends
+
+
+def test_roll_term_in_info_and_reward_is_sum_of_terms() -> None:
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **SHORT)
+    env.reset(seed=1)
+    weight = env.unwrapped.reward_weights["roll"]
+    rng = np.random.default_rng(0)
+    grew = 0.0
+    for _ in range(20):
+        _, reward, terminated, _, info = env.step(rng.uniform(-1, 1, 20).astype(np.float32))
+        terms = {k: v for k, v in info.items() if k.startswith("reward_")}
+        assert set(terms) == {"reward_climb", "reward_slip", "reward_roll"}
+        assert reward == sum(terms.values())
+        assert info["reward_roll"] == -weight * info["roll"] and info["roll"] >= 0.0
+        grew += info["roll"]
+        if terminated:
+            break
+    assert grew > 0.0  # the body's own twist sweeps a few degrees
+
+
+def test_rolling_ends_the_noroll_episode() -> None:
+    """The rolling gait on the non-rolling task: a module sweeps past roll_limit, the episode
+    ends with info["rolled"] (not a fall)."""
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **SHORT, gait_kwargs={"rolls_per_cycle": 1})
+    info, steps = last_info(env)
+    assert info["rolled"] and not info["fell"]
+    assert info["roll_span_deg"] > NOROLL_KWARGS["roll_limit"]
+    assert steps < 40  # a quarter turn takes about a quarter cycle
+
+
+def test_default_env_reward_unchanged_by_the_roll_term() -> None:
+    """ACLClimb-v1 weighs roll 0: the reward is climb minus slip to the bit."""
+    env = gym.make(ACL_CLIMB_ID, **SHORT)
+    env.reset(seed=2)
+    for _ in range(10):
+        _, reward, _, _, info = env.step(np.zeros(20, dtype=np.float32))
+        assert reward == info["climb"] - info["slip"]
+        assert info["reward_roll"] == 0.0

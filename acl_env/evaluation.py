@@ -189,6 +189,7 @@ class Episode:
     keyframes: float = 0.0  # sum of info["phase_rate"]: gait keyframes advanced
     fell: bool = False
     unstable: bool = False
+    rolled: bool = False  # ended by the env's roll_limit (the non-rolling task)
     dt: float = math.nan
     steps_per_cycle: int = 0
     abs_torque_sum: float = 0.0
@@ -283,6 +284,7 @@ def run_episode(
             callback(env, obs, action, info)
     episode.fell = bool(terminated and info.get("fell", False))
     episode.unstable = bool(terminated and info.get("unstable", False))
+    episode.rolled = bool(terminated and info.get("rolled", False))
     episode.com_height = np.asarray(heights)
     return episode
 
@@ -330,6 +332,7 @@ def summarize(episodes: Sequence[Episode]) -> dict[str, Any]:
         summary[metric] = {**mean_ci95(values), "values": values}
     summary["falls"]["count"] = sum(e.fell for e in episodes)
     summary["unstable"] = sum(e.unstable for e in episodes)
+    summary["rolled"] = sum(e.rolled for e in episodes)
     summary["mean_phase_rate"] = float(
         sum(e.keyframes for e in episodes) / max(1, sum(e.steps for e in episodes))
     )

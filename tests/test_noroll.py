@@ -8,7 +8,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, NOROLL_KWARGS
-from acl_env.evaluation import run_episode, zero_policy
+from acl_env.evaluation import run_episode, summarize, zero_policy
 
 SHORT = {"steps_per_cycle": 40, "cycles_per_episode": 2}  # 40 keyframes: ~9 deg of roll per step
 
@@ -67,6 +67,8 @@ def test_rolling_ends_the_noroll_episode() -> None:
     assert info["rolled"] and not info["fell"]
     assert info["roll_span_deg"] > NOROLL_KWARGS["roll_limit"]
     assert steps < 40  # a quarter turn takes about a quarter cycle
+    episode = run_episode(env, zero_policy(env), 0)
+    assert episode.rolled and not episode.fell and summarize([episode])["rolled"] == 1
 
 
 def test_default_env_reward_unchanged_by_the_roll_term() -> None:
@@ -77,3 +79,42 @@ def test_default_env_reward_unchanged_by_the_roll_term() -> None:
         _, reward, _, _, info = env.step(np.zeros(20, dtype=np.float32))
         assert reward == info["climb"] - info["slip"]
         assert info["reward_roll"] == 0.0
+
+
+def test_evaluation_judges_the_noroll_policy_on_its_own_env(tmp_path) -> None:
+    """A policy of the non-rolling task is compared with the open loops on the same env id (zero
+    action, so the roll term and roll_limit apply to them too), the tuned non-rolling gait
+    included; every controller's env accepts the task's reward weights and runs."""
+    import yaml
+
+    from acl_env import ROLLING_HELIX_CLIMB_ID
+    from acl_env.training.evaluate import build_controllers, run_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    weights = {"climb": 1.0, "slip": 0.25, "roll": 0.05}
+    gait = {"rolls_per_cycle": 0, "amp_pitch": 0.02, "amp_radial": 0.01}
+    entry = {
+        "env_id": ACL_CLIMB_ID,
+        "env_kwargs": {"squeeze": 0.002, "gait_kwargs": gait},
+        "objective": "reward_per_gait_cycle",
+        "reward_weights": weights,
+        "trials": 3,
+    }
+    tuned = tmp_path / "tuned.yml"
+    tuned.write_text(yaml.safe_dump({"acl_noroll": entry}))
+    env_kwargs = {**SHORT, "reward_weights": weights, "domain_randomization": True}
+    hyperparams = {"env_kwargs": env_kwargs}
+    folder = PolicyFolder(tmp_path, ACL_CLIMB_NOROLL_ID, hyperparams, tmp_path / "m.zip", None)
+    controllers, notes = build_controllers(folder, {}, None, tuned)
+    by_name = {c.name: c for c in controllers}
+    assert by_name["open_loop_acl"].env_id == ACL_CLIMB_NOROLL_ID
+    assert by_name["open_loop_tuned"].env_id == ACL_CLIMB_NOROLL_ID, notes
+    assert by_name["open_loop_tuned"].env_kwargs["gait_kwargs"] == gait
+    assert by_name["open_loop_rolling_helix"].env_id == ROLLING_HELIX_CLIMB_ID
+    for controller in controllers:
+        assert controller.env_kwargs["reward_weights"] == weights
+        assert "domain_randomization" not in controller.env_kwargs
+    open_loops = [c for c in controllers if c.policy_dir is None]
+    results = run_controllers(open_loops, [0], pool=None, progress=False)
+    assert results["open_loop_tuned"][0].metrics()["touched_arc_deg"] <= 90.0
+    assert results["open_loop_rolling_helix"][0].metrics()["touched_arc_deg"] > 270.0

@@ -11,7 +11,8 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
-  a non-rolling policy; skipped with a note when the file has no such entry.
+  a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v1``: its roll term and
+  roll limit apply); skipped with a note when the file has no such entry.
 
 All run at the env's default conditions plus the policy's non-training env kwargs plus
 ``--env-kwargs``; domain randomisation is training-only. Every controller's env computes its
@@ -258,6 +259,10 @@ def build_controllers(
         notes.append(f"open_loop_tuned: skipped, {note}")
     else:
         tuned_id, tuned_kwargs = tuned
+        if non_rolling:
+            # The non-rolling tuned gait runs on the env the policy is judged on (with a zero
+            # action): the non-rolling task's roll term and roll_limit apply to it as well.
+            tuned_id = acl_id
         kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
         controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
         notes.append(f"open_loop_tuned: {note}")

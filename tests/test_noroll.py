@@ -118,3 +118,23 @@ def test_evaluation_judges_the_noroll_policy_on_its_own_env(tmp_path) -> None:
     results = run_controllers(open_loops, [0], pool=None, progress=False)
     assert results["open_loop_tuned"][0].metrics()["touched_arc_deg"] <= 90.0
     assert results["open_loop_rolling_helix"][0].metrics()["touched_arc_deg"] > 270.0
+
+
+def test_ppo_config_entry_builds_the_noroll_env() -> None:
+    """train/configs/ppo.yml's entry: the registered weights, initial joint noise <= 0.03 rad, no
+    cadence action; its env kwargs build the env."""
+    import math
+    from pathlib import Path
+
+    from acl_env.training import config
+
+    path = Path(__file__).resolve().parents[1] / "train" / "configs" / "ppo.yml"
+    hyperparams = config.load_hyperparams(path, ACL_CLIMB_NOROLL_ID)
+    kwargs = config.algo_kwargs(hyperparams)
+    env_kwargs = hyperparams["env_kwargs"]
+    assert env_kwargs["reward_weights"] == NOROLL_KWARGS["reward_weights"]
+    assert math.exp(kwargs["policy_kwargs"]["log_std_init"]) * env_kwargs["residual_scale"] <= 0.03
+    assert "phase_rate_range" not in env_kwargs
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **env_kwargs, **SHORT)
+    env.reset(seed=0)
+    assert env.unwrapped.roll_limit == NOROLL_KWARGS["roll_limit"]

@@ -393,3 +393,38 @@ def test_signals_from_outside(tmp_path: Path, signals: tuple[int, int]) -> None:
     assert summary["interrupted"] and summary["total_steps"] == model.num_timesteps
     assert yaml.safe_load((run_dir / "config.yml").read_text())[ACL_CLIMB_ID]["n_steps"] == 64
     assert not list(run_dir.rglob("*.tmp"))
+
+
+def test_several_envs_per_worker_step_like_one_process() -> None:
+    """5 envs in 2 worker processes give the same observations, rewards, dones and terminal
+    observations as the same 5 envs stepped in this process, through auto-resets."""
+    hyperparams = {"n_envs": 5, "env_kwargs": {"steps_per_cycle": 20, "cycles_per_episode": 1}}
+    workers = trainer.make_training_env(ACL_CLIMB_ID, hyperparams, 11, "subproc", 2)
+    local = trainer.make_training_env(ACL_CLIMB_ID, hyperparams, 11, "dummy")
+    try:
+        assert [len(s) for s in workers.slices] == [2, 3]
+        np.testing.assert_array_equal(workers.reset(), local.reset())
+        rng = np.random.default_rng(0)
+        resets = 0
+        for _ in range(25):  # through the 20-step episode ends
+            actions = rng.uniform(-1, 1, (5, *workers.action_space.shape))
+            (obs_a, rew_a, done_a, info_a), (obs_b, rew_b, done_b, info_b) = (
+                workers.step(actions),
+                local.step(actions),
+            )
+            np.testing.assert_array_equal(obs_a, obs_b)
+            np.testing.assert_array_equal(rew_a, rew_b)
+            np.testing.assert_array_equal(done_a, done_b)
+            resets += int(done_a.sum())
+            for a, b in zip(info_a, info_b, strict=True):
+                assert a.keys() == b.keys()
+                if "terminal_observation" in a:
+                    np.testing.assert_array_equal(
+                        a["terminal_observation"], b["terminal_observation"]
+                    )
+        assert resets == 5
+        assert workers.get_attr("steps_per_cycle", indices=[1, 4]) == [20, 20]
+        assert all(s > 0 for s in workers.get_attr("step_seconds"))
+    finally:
+        workers.close()
+        local.close()

@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import functools
+import multiprocessing
 import os
 import signal
 import sys
@@ -29,6 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import gymnasium
 import numpy as np
 import yaml
 
@@ -38,6 +40,7 @@ from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperpa
 from acl_env.training.config import (
     algo_kwargs,
     load_hyperparams,
+    make_env,
     make_worker_env,
     normalize_kwargs,
 )
@@ -66,6 +69,7 @@ DEFAULT_SETTINGS: dict[str, Any] = {
     "torch_threads": 1,
     "device": "cpu",
     "vec_env": "subproc",
+    "workers": None,  # one per CPU core
 }
 # Options that define the run's recipe; a resume refuses them (start a new run instead).
 RECIPE_OPTIONS = ("env", "config", "hyperparams", "env_kwargs", "n_envs", "run_dir", "exp_name")
@@ -132,6 +136,11 @@ def make_parser() -> cli.ArgumentParser:
         "--vec-env",
         choices=("subproc", "dummy"),
         help="env workers: one subprocess per env, or all in the trainer (default subproc)",
+    )
+    parser.add_argument(
+        "--workers",
+        type=cli.int_at_least(1),
+        help="subprocesses sharing the envs (default: one per CPU core, at most n_envs)",
     )
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
@@ -277,7 +286,7 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         run_dir, model_path, vecnorm_path, history, segment = None, None, None, {}, 0
         if args.exp_name and not args.exp_name.replace("-", "").replace("_", "").isalnum():
             raise _bad("--exp-name", f"letters, digits, '-' and '_' only, got {args.exp_name!r}")
-    for name in ("seed", "checkpoint_freq", "torch_threads", "device", "vec_env"):
+    for name in DEFAULT_SETTINGS:
         if getattr(args, name) is not None:
             settings[name] = getattr(args, name)
 
@@ -390,22 +399,88 @@ class _Timed:
         return timed
 
 
+def _workers_cpu_seconds(env: Any) -> float:
+    """CPU seconds (user + system) used so far by the subprocess workers of ``env``, from
+    ``/proc`` (0 without workers or without ``/proc``)."""
+    processes = getattr(env.unwrapped, "processes", None) or []
+    total = 0.0
+    for process in processes:
+        try:
+            fields = Path(f"/proc/{process.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        total += (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    return total
+
+
+class StepTimer(gymnasium.Wrapper):
+    """Adds up the seconds spent in ``step`` and ``reset`` inside the worker (``step_seconds``),
+    so that the trainer can tell the envs' own compute from transfer and waiting."""
+
+    def __init__(self, env: gymnasium.Env) -> None:
+        super().__init__(env)
+        self.step_seconds = 0.0
+
+    def step(self, action: Any) -> Any:
+        start = time.perf_counter()
+        try:
+            return self.env.step(action)
+        finally:
+            self.step_seconds += time.perf_counter() - start
+
+    def reset(self, **kwargs: Any) -> Any:
+        start = time.perf_counter()
+        try:
+            return self.env.reset(**kwargs)
+        finally:
+            self.step_seconds += time.perf_counter() - start
+
+
+def _timed_env(env_id: str, worker: bool, **env_kwargs: Any) -> gymnasium.Env:
+    """An env for the vector env: in a subprocess worker, one that leaves signals to the trainer."""
+    env = make_worker_env(env_id, **env_kwargs) if worker else make_env(env_id, env_kwargs)
+    return StepTimer(env)
+
+
+def n_workers(settings: dict[str, Any], n_envs: int) -> int:
+    """Worker processes: the setting, or one per CPU core; never more than envs."""
+    return min(int(settings.get("workers") or os.cpu_count() or 1), n_envs)
+
+
 def make_training_env(
-    env_id: str, hyperparams: dict[str, Any], seed: int, vec_env: str = "subproc"
+    env_id: str,
+    hyperparams: dict[str, Any],
+    seed: int,
+    vec_env: str = "subproc",
+    workers: int | None = None,
 ) -> Any:
-    """Monitored envs: one subprocess each (``subproc``; forkserver, so workers start clean), or
-    all in this process (``dummy``, and always for a single env)."""
+    """Monitored envs: spread over ``workers`` subprocesses (``subproc``, default one per core;
+    forkserver, so workers start clean), or all in this process (``dummy``, and always for a
+    single env)."""
     from stable_baselines3.common.env_util import make_vec_env
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from acl_env.training.vec_env import MultiEnvSubprocVecEnv
 
     n_envs = int(hyperparams.get("n_envs", 1))
     subproc = vec_env == "subproc" and n_envs > 1
+    if subproc:
+        # Workers fork from a server that has imported SB3 (and torch) once, instead of each
+        # importing it again: 8 workers started in 43 s on a loaded 2-core machine without this.
+        multiprocessing.set_forkserver_preload(
+            [
+                "stable_baselines3.common.vec_env.subproc_vec_env",
+                "acl_env.training.vec_env",
+                __name__,
+            ]
+        )
     return make_vec_env(
-        functools.partial(make_worker_env, env_id) if subproc else env_id,
+        functools.partial(_timed_env, env_id, subproc),
         n_envs=n_envs,
         seed=seed,
         env_kwargs=hyperparams.get("env_kwargs") or {},
-        vec_env_cls=SubprocVecEnv if subproc else DummyVecEnv,
+        vec_env_cls=MultiEnvSubprocVecEnv if subproc else DummyVecEnv,
+        vec_env_kwargs={"n_workers": n_workers({"workers": workers}, n_envs)} if subproc else None,
     )
 
 
@@ -490,7 +565,7 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CallbackList
     from stable_baselines3.common.utils import set_random_seed
-    from stable_baselines3.common.vec_env import SubprocVecEnv, VecNormalize
+    from stable_baselines3.common.vec_env import VecNormalize
 
     from acl_env.training.callbacks import (
         InfoTermsCallback,
@@ -518,7 +593,9 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
     torch.set_num_threads(int(settings["torch_threads"]))
     set_random_seed(seed)
     timer = _Timed()
-    env = make_training_env(plan.env_id, plan.hyperparams, seed, str(settings["vec_env"]))
+    env = make_training_env(
+        plan.env_id, plan.hyperparams, seed, str(settings["vec_env"]), settings["workers"]
+    )
     env.step_async = timer.wrap("env_step", env.step_async)
     env.step_wait = timer.wrap("env_step", env.step_wait)
     run_dir = plan.run_dir
@@ -570,6 +647,7 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
             "start_steps": start_steps,
             "n_envs": env.num_envs,
             "vec_env": settings["vec_env"],
+            "workers": len(getattr(env.unwrapped, "processes", [])),
             "torch_threads": torch.get_num_threads(),
         }
         write_json(run_dir / SUMMARY_FILE, _summary(plan, [*segments, segment], start_steps))
@@ -587,7 +665,8 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
             *extra_callbacks,
         ]
         setup_s = time.perf_counter() - setup_start
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
+        workers_cpu_start = _workers_cpu_seconds(env)
         error: BaseException | None = None
         try:
             model.learn(
@@ -600,6 +679,10 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
         except Exception as exc:  # recorded, then raised again once the workers are closed
             error = exc
         learn_s = time.perf_counter() - start
+        cpu_s = {
+            "trainer": time.process_time() - cpu_start,
+            "workers": _workers_cpu_seconds(env) - workers_cpu_start,
+        }
         interrupted = error is None and stop.stop_signal is not None and stop.stopped_early
         try:
             # An error may have cut a gradient update: then only the checkpoints stand.
@@ -610,6 +693,9 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
             save_s = time.perf_counter() - save_start
             steps = model.num_timesteps - start_steps
             seconds = timer.seconds
+            worker_s = None  # after an error a worker may be dead or hold a pending reply
+            if error is None:
+                worker_s = float(sum(env.get_attr("step_seconds")))
             update_s = model.update_seconds
             rollout_other = timing.rollout_s - seconds["env_step"] - seconds["policy_inference"]
             segment.update(
@@ -623,11 +709,14 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
                 discarded_rollout_steps=discarded,
                 time_s={
                     "env_step": seconds["env_step"],
+                    "env_compute_all_envs": worker_s,
                     "policy_inference": seconds["policy_inference"],
                     "rollout_other": rollout_other,
                     "gradient_update": update_s,
                     "other": learn_s - timing.rollout_s - update_s,
                     "setup": setup_s,
+                    "cpu_trainer": cpu_s["trainer"],
+                    "cpu_workers": cpu_s["workers"],
                     "final_save": save_s,
                 },
             )
@@ -637,7 +726,7 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
                 run_dir / SUMMARY_FILE, _summary(plan, [*segments, segment], model.num_timesteps)
             )
         finally:
-            if isinstance(env.unwrapped, SubprocVecEnv):
+            if hasattr(env.unwrapped, "waiting"):
                 env.unwrapped.waiting = False  # nothing pending, or nothing worth reading
             env.close()
     if error is not None:

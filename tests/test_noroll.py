@@ -138,3 +138,26 @@ def test_ppo_config_entry_builds_the_noroll_env() -> None:
     env = gym.make(ACL_CLIMB_NOROLL_ID, **env_kwargs, **SHORT)
     env.reset(seed=0)
     assert env.unwrapped.roll_limit == NOROLL_KWARGS["roll_limit"]
+
+
+@pytest.mark.parametrize(
+    ("value", "error"),
+    [(0.0, ValueError), (-5.0, ValueError), (4000.0, ValueError), ("90", TypeError)],
+)
+def test_bad_roll_limit_is_refused_naming_it(value: object, error: type[Exception]) -> None:
+    with pytest.raises(error, match="roll_limit"):
+        gym.make(ACL_CLIMB_ID, roll_limit=value)
+
+
+def test_a_copy_continues_the_roll_measure() -> None:
+    """The swept roll travels with a mid-episode copy (plain arrays, not MuJoCo views)."""
+    import copy
+
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **SHORT)
+    env.reset(seed=3)
+    for _ in range(5):
+        env.step(np.zeros(20, dtype=np.float32))
+    clone = copy.deepcopy(env)
+    for _ in range(5):
+        info_a, info_b = env.step(np.zeros(20))[-1], clone.step(np.zeros(20))[-1]
+        assert info_a == info_b and info_a["roll_span_deg"] > 0.0

@@ -241,7 +241,7 @@ def test_a_gait_that_rolls_is_disqualified_by_max_arc(tmp_path: Path) -> None:
     with pytest.raises(SystemExit):
         tuning.main(tiny_args(tmp_path, "--n-trials", "1", "--max-arc", "90", "--space", *space))
     (trial,) = load(tmp_path).trials
-    assert trial.user_attrs["disqualified"] == "rolled"
+    assert trial.user_attrs["disqualified"] == "touched arc"
     assert trial.user_attrs["max_touched_arc_deg"] > 90.0
 
 

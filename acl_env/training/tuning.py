@@ -1,12 +1,14 @@
 """The open-loop tuner: Optuna searches the ACL gait's parameters for the best open-loop gait.
 
-Each trial builds ``ACLClimb`` with a candidate squeeze and ``gait_kwargs`` (amp_pitch,
+Each trial builds ``ACLClimb-v1`` (``ACLClimbNoRoll-v1`` with ``--no-roll``: the non-rolling
+task, its roll term and ``roll_limit``) with a candidate squeeze and ``gait_kwargs`` (amp_pitch,
 spatial_freq, amp_radial, radial_freq, pitch of Eq. 1; ``rolls_per_cycle`` 1, or 0 with
 ``--no-roll``), plays it open loop (zero action: one keyframe per step, the gait's own cadence) on
 a few seeds, and scores it by one evaluation metric, by default the env's reward per gait cycle
-under the given ``reward_weights`` (default: the training config's). A gait that falls on any
-seed, or whose keyframe table the +-90 deg joint limit clips in more than ``max_clipped`` of its
-(keyframe, joint) entries, is disqualified (the trial is pruned, its reason in the user
+under the given ``reward_weights`` (default: the training config's entry for that env id). A
+gait that falls (or, on the non-rolling task, ends by ``roll_limit``) on any seed, or whose
+keyframe table the +-90 deg joint limit clips in more than ``max_clipped`` of its (keyframe,
+joint) entries, is disqualified (the trial is pruned, its reason in the user
 attribute ``disqualified``); so is, with ``--no-roll``, a gait that touches the pole over more than
 90 degrees of some module's circumference (it rolls after all: ``touched_arc_deg``). Episodes are
 rolled out and measured by :mod:`acl_env.evaluation` (``run_episode``, ``Episode.metrics``), and
@@ -26,7 +28,8 @@ Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per ke
 "acl_noroll" with ``--no-roll``)::
 
     acl:
-      env_id: acl_env/ACLClimb-v0     # the env the gait was tuned on
+      env_id: acl_env/ACLClimb-v1     # the env the gait was tuned on (ACLClimbNoRoll-v1 for
+                                       # acl_noroll)
       env_kwargs:                      # pass to gymnasium.make(env_id, **env_kwargs)
         squeeze: 0.004                 # m
         gait_kwargs: {pitch: .., amp_pitch: .., spatial_freq: .., amp_radial: ..,
@@ -77,7 +80,7 @@ import optuna
 import yaml
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID
 from acl_env.evaluation import METRICS, jsonable, mean_ci95, run_episode, zero_policy
 from acl_env.gait.gaits import (
     DEFAULT_AMP_PITCH,
@@ -179,6 +182,7 @@ class UsageError(ValueError):
 class TuneSettings:
     """What defines a study: changing any of these needs a new study name."""
 
+    env_id: str = ACL_CLIMB_ID
     objective: str = "reward_per_gait_cycle"
     reward_weights: dict[str, float] = field(default_factory=dict)
     rolls_per_cycle: int = 1
@@ -304,12 +308,14 @@ def open_storage(storage: str) -> optuna.storages.RDBStorage:
 
 
 def rollout(env: gymnasium.Env, seeds: Sequence[int]) -> list[dict[str, float]]:
-    """Per-episode metrics of the open-loop gait (zero action) on ``seeds``, in order, stopping
-    after the first fall (a fall disqualifies the gait anyway)."""
+    """Per-episode metrics of the open-loop gait (zero action) on ``seeds``, in order, plus
+    ``rolled`` (1 if the env's ``roll_limit`` ended the episode); stops after the first fall or
+    roll (either disqualifies the gait anyway)."""
     episodes = []
     for seed in seeds:
-        episodes.append(run_episode(env, zero_policy(env), seed).metrics())
-        if episodes[-1]["falls"]:
+        episode = run_episode(env, zero_policy(env), seed)
+        episodes.append({**episode.metrics(), "rolled": float(episode.rolled)})
+        if episode.fell or episode.rolled:
             break
     return episodes
 
@@ -332,7 +338,7 @@ def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
         trial.set_user_attr("worker", f"{socket.gethostname()}:{os.getpid()}")
         params = suggest_params(trial, settings.space)
         kwargs = {**settings.protocol_kwargs(), **settings.env_kwargs(params)}
-        env = gymnasium.make(ACL_CLIMB_ID, **kwargs)
+        env = gymnasium.make(settings.env_id, **kwargs)
         try:
             saturation = env.unwrapped.gait.saturation
             trial.set_user_attr("clipped_fraction", saturation.sample_fraction)
@@ -350,10 +356,13 @@ def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
         if metrics["falls"] > 0.0:
             trial.set_user_attr("disqualified", "fell")
             raise optuna.TrialPruned(f"fell on seed {settings.seeds[len(episodes) - 1]}")
+        if any(e["rolled"] for e in episodes):
+            trial.set_user_attr("disqualified", "rolled")
+            raise optuna.TrialPruned(f"rolled past roll_limit on seed {settings.seeds[-1]}")
         arc = max(e["touched_arc_deg"] for e in episodes)
         trial.set_user_attr("max_touched_arc_deg", arc)
         if settings.max_touched_arc_deg is not None and arc > settings.max_touched_arc_deg:
-            trial.set_user_attr("disqualified", "rolled")
+            trial.set_user_attr("disqualified", "touched arc")
             raise optuna.TrialPruned(f"a module's skin touched the pole over {arc:.0f} deg")
         value = metrics[settings.objective]
         if math.isnan(value):
@@ -543,7 +552,7 @@ def validate(
         if stored is None or stored["seeds"] != seeds:
             params = {k: trial.params[k] for k in settings.space}
             env = gymnasium.make(
-                ACL_CLIMB_ID, **settings.protocol_kwargs(), **settings.env_kwargs(params)
+                settings.env_id, **settings.protocol_kwargs(), **settings.env_kwargs(params)
             )
             episodes = rollout(env, seeds)
             env.close()
@@ -552,6 +561,7 @@ def validate(
                 "seeds": seeds,
                 "episodes": len(episodes),
                 "fell": any(e["falls"] for e in episodes),
+                "rolled": any(e["rolled"] for e in episodes),
                 "max_touched_arc_deg": max(e["touched_arc_deg"] for e in episodes),
                 "metrics": {m: summary["mean"] for m, summary in summaries.items()},
                 "ci95_half_width": {m: summary["half_width"] for m, summary in summaries.items()},
@@ -562,7 +572,7 @@ def validate(
     def holds(trial: optuna.trial.FrozenTrial) -> bool:
         result = results[trial.number]
         arc_limit = settings.max_touched_arc_deg
-        return not result["fell"] and (
+        return not (result["fell"] or result.get("rolled")) and (
             arc_limit is None or result["max_touched_arc_deg"] <= arc_limit
         )
 
@@ -586,7 +596,7 @@ def tuned_entry(
     default = next((t for t in finished if t.user_attrs.get("default_gait")), None)
     params = {k: chosen.params[k] for k in settings.space}
     entry: dict[str, Any] = {
-        "env_id": ACL_CLIMB_ID,
+        "env_id": settings.env_id,
         "env_kwargs": settings.env_kwargs(params),
         "objective": settings.objective,
         "reward_weights": dict(settings.reward_weights),
@@ -614,6 +624,7 @@ def _validation_entry(result: dict[str, Any], candidates: int | None = None) -> 
     out = {
         "seeds": result["seeds"],
         "fell": result["fell"],
+        "rolled": result.get("rolled", False),
         "metrics": result["metrics"],
         "ci95_half_width": result["ci95_half_width"],
     }
@@ -698,7 +709,9 @@ def plot_frontier(
         return pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 0] > 0)]
 
     complete = [t for t in trials if t.state == optuna.trial.TrialState.COMPLETE]
-    measured_out = [t for t in trials if t.user_attrs.get("disqualified") in ("fell", "rolled")]
+    measured_out = [
+        t for t in trials if t.user_attrs.get("disqualified") in ("fell", "rolled", "touched arc")
+    ]
     fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
     ok = finite(complete)
     values = [t.value for t in complete if np.all(np.isfinite(point(t))) and point(t)[0] > 0]
@@ -725,14 +738,31 @@ def plot_frontier(
         ax.scatter(*point(chosen), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
     if policy is not None:
         ax.scatter(*policy, marker="^", s=90, color="tab:orange", label="policy", zorder=4)
+    # Axes around the better gaits (the frontier's side): far-off bad gaits only squash them.
+    marked = [point(t) for t in (default, chosen) if t is not None] + ([policy] if policy else [])
+    shown = np.vstack([ok, out, np.array(marked, dtype=float).reshape(-1, 2)])
+    shown = shown[np.all(np.isfinite(shown), axis=1) & (shown[:, 0] > 0)]
+    beyond = 0
+    if len(ok) >= 10:
+        x_hi = max([np.percentile(ok[:, 0], 90) * 1.3, *(1.1 * m[0] for m in marked)])
+        y_lo = min([np.percentile(ok[:, 1], 10) * 0.9, *(0.95 * m[1] for m in marked)])
+        beyond = int(np.sum((shown[:, 0] > x_hi) | (shown[:, 1] < y_lo)))
+        x_lo = shown[:, 0].min() / 1.1
+        y_hi = shown[:, 1].max()
+        ax.set_xlim(x_lo, x_hi)
+        ax.set_ylim(y_lo, y_hi + 0.05 * (y_hi - y_lo))
     hidden = len(trials) - len(ok) - len(out)
     clip = f"{settings.max_clipped:.0%}"
-    note = f"not shown: {hidden} gaits that did not climb, or clipped over {clip} of the joints"
+    note = f"not shown: {hidden} gaits that did not climb or clipped over {clip} of the joints"
+    if beyond:
+        note += f",\n{beyond} beyond the axes (less climb or more energy)"
     ax.text(0.99, 0.01, note, transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
     ax.set_xscale("log")
-    ax.xaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
     ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    lo, hi = ax.get_xlim()
+    if hi / lo < 20.0:  # labelled minor ticks only where they do not crowd
+        ax.xaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
     ax.set_xlabel("energy per metre climbed (J/m)")
     ax.set_ylabel("climb per gait cycle (m)")
     ax.set_title(title, fontsize=9)
@@ -830,9 +860,10 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         raise UsageError("--max-arc", f"must be in (0, 360] degrees, got {max_arc}")
     if len(set(args.seeds)) != len(args.seeds):
         raise UsageError("--seeds", f"repeated seeds {args.seeds}")
+    env_id = ACL_CLIMB_NOROLL_ID if args.no_roll else ACL_CLIMB_ID
     if args.reward_weights is None:
         try:
-            hyperparams = load_hyperparams(args.config, ACL_CLIMB_ID)
+            hyperparams = load_hyperparams(args.config, env_id)
         except (OSError, KeyError, yaml.YAMLError) as exc:
             raise UsageError("--config", str(exc).splitlines()[0]) from None
         weights = dict((hyperparams.get("env_kwargs") or {}).get("reward_weights") or {})
@@ -841,15 +872,12 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
             weights = parse_kv_pairs(args.reward_weights)
         except ValueError as exc:
             raise UsageError("--reward-weights", str(exc)) from None
-    try:  # the env checks the weights' names and values, and fills in the missing ones
-        env = gymnasium.make(
-            ACL_CLIMB_ID, steps_per_cycle=args.steps_per_cycle, reward_weights=weights
-        )
-        weights = dict(env.unwrapped.reward_weights)
-        env.close()
+    try:  # the env checks the weights' names and values
+        gymnasium.make(env_id, steps_per_cycle=args.steps_per_cycle, reward_weights=weights).close()
     except (ValueError, TypeError) as exc:
         raise UsageError("--reward-weights", str(exc)) from None
     return TuneSettings(
+        env_id=env_id,
         objective=args.objective,
         reward_weights=weights,
         rolls_per_cycle=0 if args.no_roll else 1,

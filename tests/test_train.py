@@ -116,7 +116,7 @@ def test_training_writes_a_run_folder(trained_run: Path) -> None:
     """model, VecNormalize statistics, merged config, arguments, summary and checkpoints."""
     for name in ("model.zip", "vecnormalize.pkl", "config.yml", "args.json", "summary.json"):
         assert (trained_run / name).is_file(), name
-    assert trained_run.name.startswith("acl_env_ACLClimb-v0__ppo__0__")
+    assert trained_run.name.startswith(f"{ACL_ID.replace('/', '_')}__ppo__0__")
     config = yaml.safe_load((trained_run / "config.yml").read_text())
     entry = config[ACL_ID]
     assert entry["n_steps"] == 128 and entry["n_envs"] == 2
@@ -172,4 +172,5 @@ def test_the_zoo_trains_from_the_config(tmp_path: Path) -> None:
         *["--log-folder", str(tmp_path), "--hyperparams", "n_steps:64", "batch_size:64"],
         *["--env-kwargs", *SHORT_ARGS],
     )
-    assert list(tmp_path.rglob("vecnormalize.pkl")) and list(tmp_path.rglob("*ACLClimb-v0.zip"))
+    assert list(tmp_path.rglob("vecnormalize.pkl"))
+    assert list(tmp_path.rglob(f"*{ACL_ID.split('/')[1]}.zip"))

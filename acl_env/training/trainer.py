@@ -485,8 +485,10 @@ def make_training_env(
 
 
 @contextlib.contextmanager
-def deferred_signals(on_signal: Callable[[int], None]) -> Iterator[None]:
-    """SIGINT and SIGTERM call ``on_signal`` instead of raising; restored on exit.
+def deferred_signals(on_signal: Callable[[int], None], restore: bool = True) -> Iterator[None]:
+    """SIGINT and SIGTERM call ``on_signal`` instead of raising; on exit the previous handlers
+    come back (``restore``), or the signals are ignored: a command line that has saved its work
+    must not die of a late second signal in its last lines.
 
     Messages go through ``os.write``: a ``print`` inside a handler can hit a reentrant stdout.
     """
@@ -508,7 +510,7 @@ def deferred_signals(on_signal: Callable[[int], None]) -> Iterator[None]:
         yield
     finally:
         for signum, old in previous.items():
-            signal.signal(signum, old)
+            signal.signal(signum, old if restore else signal.SIG_IGN)
 
 
 def _new_run_dir(parent: Path, env_id: str, exp_name: str, seed: int) -> Path:
@@ -559,8 +561,14 @@ def _previous_segments(history: dict[str, Any]) -> list[dict[str, Any]]:
     return segments
 
 
-def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 1) -> Path:
-    """Build the envs and the model, learn, save; return the run folder."""
+def run_segment(
+    plan: Plan,
+    extra_callbacks: Sequence[Any] = (),
+    verbose: int = 1,
+    restore_signals: bool = True,
+) -> Path:
+    """Build the envs and the model, learn, save; return the run folder. SIGINT and SIGTERM are
+    deferred while it runs (see :func:`deferred_signals`)."""
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CallbackList
@@ -630,7 +638,7 @@ def run_segment(plan: Plan, extra_callbacks: Sequence[Any] = (), verbose: int = 
     stop, timing = SafeStopCallback(), TimingCallback()
     start_steps = model.num_timesteps
     segments = _previous_segments(plan.history)
-    with deferred_signals(stop.request_stop):
+    with deferred_signals(stop.request_stop, restore=restore_signals):
         if run_dir is None:
             run_dir = _new_run_dir(plan.run_parent, plan.env_id, plan.exp_name, seed)
             atomic_write(
@@ -756,7 +764,7 @@ def _record_args(run_dir: Path, plan: Plan) -> None:
     write_json(path, record)
 
 
-def train(argv: Sequence[str] | None = None) -> Path:
+def train(argv: Sequence[str] | None = None, restore_signals: bool = True) -> Path:
     """Check the command line, then train; return the run folder. A refused command line exits
     with status 2 and a one-line message, before any work."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -766,10 +774,10 @@ def train(argv: Sequence[str] | None = None) -> Path:
         plan = plan_segment(args, argv)
     except (ConfigError, argparse.ArgumentTypeError) as error:
         parser.error(str(error))
-    return run_segment(plan)
+    return run_segment(plan, restore_signals=restore_signals)
 
 
 def main(argv: Sequence[str] | None = None) -> None:
     """Entry point (``acl-train``, ``python train/train_ppo.py``); returns None, so that a console
-    script's ``sys.exit(main())`` exits 0."""
-    train(argv)
+    script's ``sys.exit(main())`` exits 0. Signals after the save are ignored."""
+    train(argv, restore_signals=False)

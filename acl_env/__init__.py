@@ -18,14 +18,20 @@ ACL_CLIMB_ID = "acl_env/ACLClimb-v1"
 ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v1"
 ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRoll-v1"
 
-# The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why): a
-# placeholder from issue 11's open-loop table (A_p 3 cm, A_r 1.5 cm, squeeze 0.4 cm: 4.0 cm per
-# cycle, 50 deg touched arc) until the tuner's "acl_noroll" entry (train/configs/tuned_gaits.yml)
-# is committed.
+# The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
+# the open-loop tuner's best for this task's reward (train/configs/tuned_gaits.yml, "acl_noroll",
+# trial 260 of 300), copied exactly so that the tuned open loop and this env's zero action agree.
 NOROLL_KWARGS = {
     "base_gait": "acl",
-    "gait_kwargs": {"rolls_per_cycle": 0, "amp_pitch": 0.03, "amp_radial": 0.015},
-    "squeeze": 0.004,
+    "gait_kwargs": {
+        "amp_pitch": 0.028783709737705183,
+        "spatial_freq": 2,
+        "amp_radial": 0.012028307774744488,
+        "radial_freq": 2,
+        "pitch": 0.10874646403128573,
+        "rolls_per_cycle": 0,
+    },
+    "squeeze": 0.015667144379349414,
     "reward_weights": {"climb": 1.0, "slip": 0.25, "roll": 0.05},
     "roll_limit": 90.0,
 }

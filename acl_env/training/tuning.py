@@ -745,29 +745,28 @@ def plot_frontier(
     beyond = 0
     if len(ok) >= 10:
         x_hi = max([np.percentile(ok[:, 0], 90) * 1.3, *(1.1 * m[0] for m in marked)])
-        y_lo = min([np.percentile(ok[:, 1], 10) * 0.9, *(0.95 * m[1] for m in marked)])
+        y_lo = min([np.percentile(ok[:, 1], 10), *(m[1] for m in marked)])
         beyond = int(np.sum((shown[:, 0] > x_hi) | (shown[:, 1] < y_lo)))
         x_lo = shown[:, 0].min() / 1.1
         y_hi = shown[:, 1].max()
+        pad = 0.05 * (y_hi - y_lo)
         ax.set_xlim(x_lo, x_hi)
-        ax.set_ylim(y_lo, y_hi + 0.05 * (y_hi - y_lo))
+        ax.set_ylim(y_lo - pad, y_hi + pad)
     hidden = len(trials) - len(ok) - len(out)
     clip = f"{settings.max_clipped:.0%}"
-    note = f"not shown: {hidden} gaits that did not climb or clipped over {clip} of the joints"
+    note = f"not shown: {hidden} gaits that did not climb\nor clipped over {clip} of the joints"
     if beyond:
-        note += f",\n{beyond} beyond the axes (less climb or more energy)"
-    ax.text(0.99, 0.01, note, transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
-    ax.set_xscale("log")
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        note += f";\n{beyond} beyond the axes"
+    ax.plot([], [], " ", label=note)  # in the legend, which finds a place clear of the points
     lo, hi = ax.get_xlim()
-    if hi / lo < 20.0:  # labelled minor ticks only where they do not crowd
-        ax.xaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    if hi / lo > 10.0:  # a log axis only where the energies span more than a decade
+        ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
     ax.set_xlabel("energy per metre climbed (J/m)")
     ax.set_ylabel("climb per gait cycle (m)")
     ax.set_title(title, fontsize=9)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, loc="best")
+    ax.legend(fontsize=7, loc="best")
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -931,8 +930,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         plot = args.plot.format(key=key)
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
         title = (
-            f"{key}: {entry['trials']} open-loop gaits, {settings.objective} "
-            f"(weights {weights}), {len(settings.seeds)} seeds"
+            f"{key}: {entry['trials']} open-loop gaits on {settings.env_id}, {len(settings.seeds)}"
+            f" seeds each\n{settings.objective} with reward weights {weights}"
         )
         plot_frontier(study, settings, plot, title, chosen, policy)
         print(f"frontier figure: {plot}")

@@ -44,7 +44,9 @@ def env_creator(env_id: str) -> Callable[..., gymnasium.Env]:
 
 
 def _type_name(hint: Any) -> str:
-    return getattr(hint, "__name__", None) or str(hint).replace("typing.", "")
+    if isinstance(hint, type):
+        return hint.__name__
+    return str(hint).replace("typing.", "").replace("collections.abc.", "")
 
 
 def _matches(value: Any, hint: Any) -> bool:

@@ -6,8 +6,10 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import gymnasium
@@ -283,3 +285,37 @@ def test_validation_passes_over_a_lucky_gait_that_falls_on_new_seeds(tmp_path: P
     assert entry["validation"]["candidates"] == 2
     # The chosen gait is the default one: both validation records are the same measurement.
     assert entry["default_gait_validation"]["metrics"] == entry["validation"]["metrics"]
+
+
+def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path) -> None:
+    args = tiny_args(tmp_path, "--n-trials", "1000")
+    proc = subprocess.Popen(
+        [sys.executable, "train/tune_gait.py", *args],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            time.sleep(0.5)
+            if (tmp_path / "study.db").exists():
+                try:
+                    if len(load(tmp_path).get_trials(states=tuning.FINISHED)) >= 2:
+                        break
+                except KeyError:  # the study is being created
+                    pass
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err
+    assert "interrupted" in err.splitlines()[-1] and "resume" in err.splitlines()[-1]
+    assert not (tmp_path / "tuned.yml").exists()  # nothing written on an interrupt
+    finished = len(load(tmp_path).get_trials(states=tuning.FINISHED))
+    assert 2 <= finished < 1000
+    args[args.index("1000")] = str(finished + 1)
+    tuning.main(args)  # resumes: one more trial, then the outputs
+    assert len(load(tmp_path).get_trials(states=tuning.FINISHED)) == finished + 1
+    assert (tmp_path / "tuned.yml").is_file()

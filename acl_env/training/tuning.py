@@ -65,6 +65,7 @@ import argparse
 import math
 import multiprocessing
 import os
+import signal
 import socket
 import sys
 import time
@@ -406,13 +407,24 @@ def run_worker(
         study_name=study_name, storage=open_storage(storage), sampler=_sampler(seed)
     )
     objective = make_objective(settings)
+    for _ in range(quota):
+        if _counted(study) >= n_trials:
+            break
+        study.optimize(objective, n_trials=1, callbacks=list(callbacks))
+
+
+def _worker_process(*args: Any, **kwargs: Any) -> None:
+    """:func:`run_worker` in a spawned process: Ctrl-C (sent to the whole process group) ends it
+    quietly; Optuna has marked its running trial failed, and a rerun redoes it."""
     try:
-        for _ in range(quota):
-            if _counted(study) >= n_trials:
-                break
-            study.optimize(objective, n_trials=1, callbacks=list(callbacks))
+        run_worker(*args, **kwargs)
     except KeyboardInterrupt:
-        pass  # the running trial is marked failed; a rerun redoes it
+        pass
+
+
+def _interrupt(signum: int, frame: Any) -> None:
+    """SIGTERM handler: stop as Ctrl-C does."""
+    raise KeyboardInterrupt
 
 
 def prepare_study(
@@ -456,7 +468,11 @@ def run_study(
     seed: int | None = None,
     progress: bool = True,
 ) -> optuna.Study:
-    """Run the study until it holds ``n_trials`` finished trials, on ``n_jobs`` processes."""
+    """Run the study until it holds ``n_trials`` finished trials, on ``n_jobs`` processes.
+
+    Ctrl-C (or SIGTERM, with :func:`main`'s handler) stops the workers and raises
+    ``KeyboardInterrupt``; the finished trials stay in the study for a rerun to resume from.
+    """
     study, _ = prepare_study(settings, storage, study_name)
     with warnings.catch_warnings():  # experimental since Optuna 2.9, still there in 4.x
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
@@ -469,6 +485,7 @@ def run_study(
         bar.update()
         bar.set_postfix_str(_best_text(study))
 
+    workers: list[multiprocessing.process.BaseProcess] = []
     try:
         # Enqueued trials (the default gait) run here first: two processes popping the same
         # waiting trial from SQLite can both run it, and the second fails to record it.
@@ -483,7 +500,7 @@ def run_study(
             quotas = [remaining // n_jobs + (i < remaining % n_jobs) for i in range(n_jobs)]
             workers = [
                 context.Process(
-                    target=run_worker,
+                    target=_worker_process,
                     args=(settings, storage, study_name, quota, n_trials),
                     kwargs={"seed": None if seed_base is None else seed_base + 1 + i},
                 )
@@ -501,7 +518,10 @@ def run_study(
             if failed:
                 raise RuntimeError(f"tuning workers exited with status {failed}")
     except KeyboardInterrupt:
-        print("\ninterrupted: rerun the same command to resume the study", file=sys.stderr)
+        for worker in workers:
+            worker.terminate()  # a trial it was running stays RUNNING until the heartbeat fails it
+            worker.join()
+        raise
     finally:
         bar.close()
     return study
@@ -909,15 +929,26 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         prepare_study(settings, args.storage, study_name)  # bad storage fails before any trial
     except UsageError as exc:
         parser.error(str(exc))
-    study = run_study(
-        settings,
-        args.storage,
-        study_name,
-        args.n_trials,
-        args.n_jobs,
-        args.sampler_seed,
-        progress=not args.no_progress_bar,
-    )
+    previous = signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        study = run_study(
+            settings,
+            args.storage,
+            study_name,
+            args.n_trials,
+            args.n_jobs,
+            args.sampler_seed,
+            progress=not args.no_progress_bar,
+        )
+    except KeyboardInterrupt:
+        print(
+            f"acl-tune-gait: interrupted; the finished trials are in {args.storage}: rerun the "
+            "same command to resume (nothing written)",
+            file=sys.stderr,
+        )
+        raise SystemExit(130) from None
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     try:
         chosen, validation = validate(study, settings, args.validate_top, args.validate_seeds)
     except RuntimeError as exc:

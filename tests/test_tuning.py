@@ -319,3 +319,14 @@ def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path) -> None:
     tuning.main(args)  # resumes: one more trial, then the outputs
     assert len(load(tmp_path).get_trials(states=tuning.FINISHED)) == finished + 1
     assert (tmp_path / "tuned.yml").is_file()
+
+
+def test_also_plot_names_an_existing_study(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(tiny_args(tmp_path, "--n-trials", "2", "--also-plot", "nosuch"))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert err.count("\n") == 1 and "--also-plot" in err and "nosuch" in err
+    assert load(tmp_path).get_trials(states=tuning.FINISHED) == []  # refused before any trial

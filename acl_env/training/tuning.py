@@ -712,8 +712,13 @@ def plot_frontier(
     title: str,
     chosen: optuna.trial.FrozenTrial | None = None,
     policy: tuple[float, float] | None = None,
+    others: Sequence[optuna.Study] = (),
 ) -> None:
-    """Climb per gait cycle against energy per metre of every trial: the open-loop frontier."""
+    """Climb per gait cycle against energy per metre of every trial: the open-loop frontier.
+
+    ``others``: studies (of other objectives or ranges) whose qualified gaits join the frontier,
+    drawn in grey.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -748,7 +753,27 @@ def plot_frontier(
         )
         extend = "min" if settings.direction == "maximize" else "max"
         fig.colorbar(sc, ax=ax, label=settings.objective, extend=extend)
-        front = pareto_front(ok)
+    extra = finite(
+        [
+            t
+            for other in others
+            for t in other.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,))
+        ]
+    )
+    if len(extra):
+        names = ", ".join(other.study_name for other in others)
+        ax.scatter(
+            extra[:, 0],
+            extra[:, 1],
+            s=14,
+            facecolors="none",
+            edgecolors="0.55",
+            lw=0.7,
+            label=f"studies {names}",
+            zorder=1,
+        )
+    if len(ok) or len(extra):
+        front = pareto_front(np.vstack([ok, extra]))
         ax.step(front[:, 0], front[:, 1], where="post", color="0.3", lw=1, label="frontier")
     out = finite(measured_out)
     if len(out):
@@ -763,7 +788,7 @@ def plot_frontier(
         ax.scatter(*policy, marker="^", s=90, color="tab:orange", label="policy", zorder=4)
     # Axes around the better gaits (the frontier's side): far-off bad gaits only squash them.
     marked = [point(t) for t in (default, chosen) if t is not None] + ([policy] if policy else [])
-    shown = np.vstack([ok, out, np.array(marked, dtype=float).reshape(-1, 2)])
+    shown = np.vstack([ok, extra, out, np.array(marked, dtype=float).reshape(-1, 2)])
     shown = shown[np.all(np.isfinite(shown), axis=1) & (shown[:, 0] > 0)]
     beyond = 0
     if len(ok) >= 10:
@@ -866,6 +891,13 @@ def make_parser() -> cli.ArgumentParser:
         metavar="EVAL_JSON[:CONTROLLER]",
         help="mark a controller of an evaluation JSON on the figure (default controller: policy)",
     )
+    parser.add_argument(
+        "--also-plot",
+        nargs="*",
+        default=[],
+        metavar="STUDY",
+        help="other studies in --storage whose gaits join the frontier figure",
+    )
     parser.add_argument("--sampler-seed", type=int, default=None)
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
@@ -930,6 +962,14 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
                 msg = f"cannot read {args.policy_point}: {exc!r}"
                 raise UsageError("--policy-point", msg) from None
         prepare_study(settings, args.storage, study_name)  # bad storage fails before any trial
+        others = []
+        for name in args.also_plot:
+            try:
+                others.append(
+                    optuna.load_study(study_name=name, storage=open_storage(args.storage))
+                )
+            except KeyError:
+                raise UsageError("--also-plot", f"no study {name!r} in {args.storage}") from None
     except UsageError as exc:
         parser.error(str(exc))
     previous = signal.signal(signal.SIGTERM, _interrupt)
@@ -967,7 +1007,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
             f"{key}: {entry['trials']} open-loop gaits on {settings.env_id}, {len(settings.seeds)}"
             f" seeds each\n{settings.objective} with reward weights {weights}"
         )
-        plot_frontier(study, settings, plot, title, chosen, policy)
+        plot_frontier(study, settings, plot, title, chosen, policy, others)
         print(f"frontier figure: {plot}")
     return entry
 

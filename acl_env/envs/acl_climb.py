@@ -557,8 +557,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Play one keyframe (0.1 s) of the gait plus the residual.
 
-        reward = w_climb * climb - w_slip * slip: the centre-of-mass rise and the mean sliding
-        distance of the snake-pole contacts over the step (``info`` holds both terms).
+        reward = w_climb * climb - w_slip * slip - w_roll * roll: the centre-of-mass rise, the mean
+        sliding distance of the snake-pole contacts and the growth of the body's swept roll over
+        the step (``envs/rewards.py``; ``info`` holds every weighted term).
         """
         action = np.asarray(action, dtype=np.float64)
         if action.shape != self.action_space.shape:

@@ -30,6 +30,7 @@ from acl_env.envs.acl_climb import (
     STEPS_PER_CYCLE_RANGE,
     TIMESTEP_RANGE,
 )
+from acl_env.envs.modulation import MODULATED_PARAMETERS, SECTIONS_RANGE
 from acl_env.envs.randomize import DEFAULT_RANDOMIZATION, RANGE_BOUNDS, SENSOR_NOISE_MAX
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
 from acl_env.gait.gaits import SEA_MODULE_DIAMETER, SEA_MODULE_RADIUS
@@ -258,6 +259,12 @@ def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
         # Documented as 0.1 s / (5 k) within the range: 5 contact samples of whole steps.
         "timestep": draw(st.integers(4, 40).map(lambda k: CONTROL_DT / (SLIP_SAMPLES * k))),
     }
+    modulated = {"acl": MODULATED_PARAMETERS, "rolling_helix": {"squeeze": 0.02}}
+    if base_gait in modulated:
+        options = {k: within((0.0, v), open_low=True) for k, v in modulated[base_gait].items()}
+        kwargs["gait_modulation"] = draw(st.none() | st.fixed_dictionaries({}, optional=options))
+        top_sections = min(SECTIONS_RANGE[1], kwargs["n_joints"])
+        kwargs["modulation_sections"] = draw(st.none() | st.integers(1, top_sections))
     # squeeze must leave a helix radius for every pole the episodes can draw.
     dr = kwargs["domain_randomization"]
     poles = [kwargs["pole_radius"]]

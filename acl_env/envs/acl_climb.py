@@ -30,6 +30,15 @@ from acl_env.constants import (
     TRACK_CAMERA,
 )
 from acl_env.envs import termination
+from acl_env.envs.modulation import (
+    DEFAULT_SECTIONS,
+    check_modulation,
+    check_sections,
+    interpolate_offsets,
+    offset_tables,
+    section_weights,
+    table_radius,
+)
 from acl_env.envs.randomize import (
     DEFAULT_RANDOMIZATION,
     RandomizedElements,
@@ -116,6 +125,13 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     the action has one more entry that sets how many keyframes the gait advances this step:
     ``1 + a (high - 1)`` for ``a >= 0``, ``1 + a (1 - low)`` below, so a zero action is still the
     open-loop gait; between keyframes the gait's targets are interpolated linearly.
+    With ``gait_modulation={parameter: scale}`` (off by default) the action has
+    ``len(gait_modulation) * modulation_sections`` more entries, between the joint residual and
+    the cadence, parameter-major: entry ``(p, s)`` offsets gait parameter ``p`` (``squeeze``,
+    ``amp_pitch``, ``amp_radial``) by up to ``scale`` m in body section ``s`` (head first; hat
+    functions between the sections' centres), and the joint targets change as the gait's own
+    Eq. 1-5 tables with that offset would (``envs/modulation.py``; docs/residual_rl.md#gait-
+    modulation): a grip that can tighten where and when it is needed.
 
     ## Observation Space
     What the robot senses (float64, ``n = n_joints``):
@@ -226,6 +242,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     | phase_rate_range | None | None or (low, high) | keyframes per step: policy sets the cadence |
     | timestep | 1/300 | 0.1 s / (5 k), 0.5-5 ms | physics step, s (v0: 0.002) |
     | roll_limit | None | None or (0, 3600] | deg a module's roll may sweep before the end |
+    | gait_modulation | None | None or {parameter: (0, 0.02]} | m of offset per unit action |
+    | modulation_sections | None (4) | int in [1, min(20, n_joints)] | body sections modulated |
     | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
     | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
     | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
@@ -260,6 +278,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
       argument ``timestep`` (``timestep=0.002`` is the v0 physics). Open-loop climbing stays
       within 2 % (climb) and 15 % (slip, energy per metre) of a 1 ms step in every condition of
       ``benchmarks/fidelity.py``; slip reads up to 15 % higher than at 1 ms (v0: up to 6 %).
+      Later options that leave the default dynamics unchanged: ``roll_limit``,
+      ``gait_modulation`` and ``modulation_sections`` (a zero modulation action is bit-identical
+      to the env without it).
     * v0: initial release.
     """
 
@@ -289,6 +310,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         phase_rate_range: tuple[float, float] | None = None,
         timestep: float = PHYSICS_TIMESTEP,
         roll_limit: float | None = None,
+        gait_modulation: Mapping[str, float] | None = None,
+        modulation_sections: int | None = None,
         render_mode: str | None = None,
         width: int = 640,
         height: int = 480,
@@ -315,6 +338,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             phase_rate_range,
             timestep,
             roll_limit,
+            gait_modulation,
+            modulation_sections,
             render_mode,
             width,
             height,
@@ -377,6 +402,17 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
                 )
             start_gait = self.base_gait if GAITS[self.base_gait] else "acl"
             GAITS[start_gait](**self._gait_kwargs(radius))  # raises naming the bad entry
+        self.gait_modulation = check_modulation(gait_modulation)
+        self.modulation_sections = check_sections(
+            min(DEFAULT_SECTIONS, self.n_joints)
+            if modulation_sections is None
+            else modulation_sections,
+            self.n_joints,
+        )
+        if self.gait_modulation and GAITS[self.base_gait] is None:
+            raise ValueError("gait_modulation needs a base gait to modulate, got base_gait='none'")
+        self._modulated = tuple(self.gait_modulation)
+        self._section_weights = section_weights(self.n_joints, self.modulation_sections)
         self.timestep, frame_skip = _timestep(timestep)
 
         self.gait = self._make_gait(self.pole_radius)
@@ -398,7 +434,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             raise ValueError(
                 f"camera_name must be one of the model's cameras {cameras}, got {camera_name!r}"
             )
-        n_actions = n + (self.phase_rate_range is not None)
+        n_modulation = len(self._modulated) * self.modulation_sections
+        self._rate_index = n + n_modulation  # the cadence action, when there is one
+        n_actions = n + n_modulation + (self.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         self._elements = RandomizedElements.of(self.model, n)
         self._nominal_physics = {
@@ -436,6 +474,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         )
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
         self._table = self._gait_table()
+        self._offset_tables = self._gait_offset_tables(self.pole_radius)
         self._step_count = 0
         self._k0 = 0
         self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
@@ -492,6 +531,14 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             return np.zeros((self.steps_per_cycle, self.n_joints))
         return self.gait.cycle()
 
+    def _gait_offset_tables(self, pole_radius: float) -> np.ndarray | None:
+        """d(keyframe table)/d(modulated parameter) (envs/modulation.py), at the pole radius
+        rounded to 1 mm; None without modulation."""
+        if not self._modulated or self.gait is None:
+            return None
+        items = tuple(sorted(self._gait_kwargs(table_radius(pole_radius)).items()))
+        return offset_tables(type(self.gait), items, tuple(self.gait_modulation.items()))
+
     # -- reset ----------------------------------------------------------------------------------
 
     def reset_model(self) -> np.ndarray:
@@ -504,6 +551,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         pole_radius = physics["pole_radius"]
         self.gait = self._make_gait(pole_radius)
         self._table = self._gait_table()
+        self._offset_tables = self._gait_offset_tables(pole_radius)
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
         self._step_count = 0
@@ -571,6 +619,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its dispatch
         base = self._base_target()
         residual = self.residual_scale * action[: self.n_joints]
+        if self._offset_tables is not None:
+            residual = residual + self._modulation(action)
         target = np.minimum(np.maximum(base + residual, -JOINT_LIMIT), JOINT_LIMIT)
         rate = self._phase_rate(action)
         phase = self._keyframe / self.steps_per_cycle
@@ -637,12 +687,26 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             return self._table[k]
         return (1.0 - frac) * self._table[k] + frac * self._table[(k + 1) % self.steps_per_cycle]
 
+    def _modulation(self, action: np.ndarray) -> np.ndarray:
+        """Change of the joint targets (rad) by the per-section parameter offsets: the gait's
+        own tables with the offsets applied, less the base (envs/modulation.py)."""
+        n, n_params = self.n_joints, len(self._modulated)
+        a = action[n : self._rate_index].reshape(n_params, self.modulation_sections)
+        offsets = a @ self._section_weights.T  # (P, n), in units of each parameter's scale
+        k = int(self._keyframe)
+        frac = self._keyframe - k
+        change = interpolate_offsets(self._offset_tables, k, offsets)
+        if frac != 0.0:
+            nxt = interpolate_offsets(self._offset_tables, (k + 1) % self.steps_per_cycle, offsets)
+            change = (1.0 - frac) * change + frac * nxt
+        return change
+
     def _phase_rate(self, action: np.ndarray) -> float:
         """Keyframes the gait advances this step: 1, or set by the last action (PMTG option)."""
         if self.phase_rate_range is None:
             return 1.0
         lo, hi = self.phase_rate_range
-        a = float(action[self.n_joints])
+        a = float(action[self._rate_index])
         return 1.0 + a * (hi - 1.0 if a >= 0.0 else 1.0 - lo)
 
     def _com(self) -> np.ndarray:

@@ -411,3 +411,37 @@ def test_python_m_acl_env_plays_the_gait(
     with pytest.raises(SystemExit) as exit_info:
         main(["--cycles", "0"])
     assert exit_info.value.code == 2
+
+
+def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits(
+    tmp_path: Path,
+) -> None:
+    """A policy trained on the tuned gait with gait modulation: the open-loop ACL controller is
+    the env's default gait (no gait_kwargs, squeeze or modulation), the rolling helix gets none
+    of the ACL gait's shape, and the tuned controller is the tuned gait; the policy keeps all."""
+    from acl_env.training.evaluate import build_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    weights = {"climb": 1.0, "slip": 2.0}
+    reshaped = {
+        **SHORT,
+        "squeeze": 0.004,
+        "gait_kwargs": {"amp_pitch": 0.02, "rolls_per_cycle": 1},
+        "gait_modulation": {"squeeze": 0.0015},
+        "reward_weights": weights,
+    }
+    folder = PolicyFolder(
+        tmp_path, ACL_CLIMB_ID, {"env_kwargs": reshaped}, tmp_path / "m.zip", None
+    )
+    tuned = tuned_gaits_file(tmp_path / "tuned.yml", weights)
+    controllers, notes = build_controllers(folder, {}, None, tuned)
+    by_name = {c.name: c for c in controllers}
+    assert by_name["policy"].env_kwargs["gait_modulation"] == {"squeeze": 0.0015}
+    for name in ("open_loop_acl", "open_loop_rolling_helix"):
+        kwargs = by_name[name].env_kwargs
+        assert not {"squeeze", "gait_kwargs", "gait_modulation"} & set(kwargs), (name, kwargs)
+        assert kwargs["reward_weights"] == weights
+    assert by_name["open_loop_tuned"].env_kwargs["squeeze"] == 0.004, notes
+    assert "gait_modulation" not in by_name["open_loop_tuned"].env_kwargs
+    env = gymnasium.make(by_name["open_loop_acl"].env_id, **by_name["open_loop_acl"].env_kwargs)
+    assert env.unwrapped.squeeze == 0.008  # the default gait's

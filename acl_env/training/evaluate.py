@@ -4,7 +4,8 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 
 * ``policy``: the policy folder's newest model, deterministic, VecNormalize statistics frozen;
 * ``open_loop_acl``: the default ACL gait, zero action (on the policy's env when its base gait is
-  ACL, so a non-rolling task is judged against its own open loop);
+  ACL, so a non-rolling task is judged against its own open loop; the env's registered gait,
+  without the ``gait_kwargs`` or ``squeeze`` a policy may have been trained on);
 * ``open_loop_acl_same_cadence``: only when the policy sets the cadence (``phase_rate_range``):
   the same open loop played at the policy's mean phase rate, so what the policy adds beyond
   running the gait faster shows;
@@ -69,8 +70,12 @@ DEFAULT_POLICY = REPO_ROOT / "train" / "policies" / "acl_climb_ppo"
 DEFAULT_TUNED_GAITS = REPO_ROOT / "train" / "configs" / "tuned_gaits.yml"
 # Training-only env kwargs that evaluation drops from the policy's config.
 TRAINING_ONLY_KWARGS = ("domain_randomization",)
-# Kwargs tied to one base gait: not passed to another gait's env.
-GAIT_KWARGS = ("gait_kwargs", "base_gait")
+# Kwargs tied to one base gait's shape: not passed to another gait's env, nor to the default
+# open loop (a policy trained on a reshaped gait, e.g. the tuned one, is still judged against
+# the env's default ACL gait and, separately, against the tuned one).
+GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze")
+# Kwargs that only shape the policy's action: the open loops play a zero action without them.
+POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections")
 SAME_CADENCE = "open_loop_acl_same_cadence"
 
 
@@ -238,14 +243,17 @@ def build_controllers(
     base.pop("reward_weights", None)
     if reward_weights is not None:
         base["reward_weights"] = dict(reward_weights)
-    other_gait = {k: v for k, v in base.items() if k not in GAIT_KWARGS}
+    open_loop = {k: v for k, v in base.items() if k not in POLICY_ACTION_KWARGS}
+    other_gait = {k: v for k, v in open_loop.items() if k not in GAIT_KWARGS}
     controllers, notes = [], []
-    acl_kwargs = base  # without a policy: the ACL env with --env-kwargs, gait kwargs included
+    acl_kwargs = open_loop  # without a policy: the ACL env with --env-kwargs, gait kwargs included
     if folder is not None:
         acl_kwargs = other_gait
         controllers.append(Controller("policy", folder.env_id, base, str(folder.path)))
         if env_setting(folder.env_id, base, "base_gait", "acl") == "acl":
-            acl_id, acl_kwargs = folder.env_id, base
+            # The registered gait of the policy's env (ACLClimbNoRoll-v1: the non-rolling one),
+            # without any reshaping of it the policy was trained on.
+            acl_id = folder.env_id
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
     if folder is not None:
         if env_setting(acl_id, acl_kwargs, "phase_rate_range") is not None:

@@ -1,10 +1,11 @@
 """Is the policy no worse than open loop across the randomisation range? Pole radius x friction.
 
-``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--json PATH]`` evaluates
-the controllers of ``train/evaluate.py`` (:mod:`acl_env.training.evaluate`: the policy, open-loop
-ACL, at the policy's cadence, rolling helix, tuned gait; same seeds for all) at the corners and
-centre of the training ranges of pole radius and friction, and prints the climb per cycle, slip
-per cycle and falls of each.
+``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out] [--json PATH]``
+evaluates the controllers of ``train/evaluate.py`` (:mod:`acl_env.training.evaluate`: the policy,
+open-loop ACL, at the policy's cadence, rolling helix, tuned gait; same seeds for all) at the
+corners and centre of the training ranges of pole radius and friction, or with ``--held-out`` under
+conditions outside the training ranges (``HELD_OUT``), and prints the climb per gait cycle, slip
+per metre, largest touched arc and falls of each.
 """
 
 from __future__ import annotations
@@ -26,7 +27,33 @@ from acl_env.training.policy import read_policy_folder
 
 POLE_RADII = (0.065, 0.075, 0.09)
 FRICTIONS = (0.7, 1.0, 1.2)
-COLUMNS = ("climb_per_cycle_m", "slip_per_cycle_m")
+# --held-out: one condition at a time outside the training ranges of ppo.yml's domain
+# randomisation (pole radius 0.065-0.09 m, friction 0.7-1.2, kp 15-30 N m/rad, mass 0.9-1.1x):
+# 1 cm beyond each end of the radius range, 0.2-0.3 beyond the friction range, 20 % beyond kp and
+# mass. Thinner and thicker poles, slicker and grippier skins, softer and stiffer springs, a
+# lighter robot and one carrying a payload. Everything else at the env's defaults.
+HELD_OUT: tuple[tuple[str, dict], ...] = (
+    ("pole radius 0.055 m", {"pole_radius": 0.055}),
+    ("pole radius 0.10 m", {"pole_radius": 0.10}),
+    ("friction 0.5", {"friction": 0.5}),
+    ("friction 1.5", {"friction": 1.5}),
+    ("kp 12 N m/rad", {"kp": 12.0}),
+    ("kp 36 N m/rad", {"kp": 36.0}),
+    ("mass 0.8x", {"domain_randomization": {"mass_scale": [0.8, 0.8]}}),
+    ("mass 1.2x", {"domain_randomization": {"mass_scale": [1.2, 1.2]}}),
+)
+COLUMNS = ("climb_per_gait_cycle_m", "slip_per_m", "touched_arc_deg")
+
+
+def grid_conditions() -> list[tuple[str, dict]]:
+    """The corners and centre of the training ranges of pole radius and friction."""
+    return [
+        (
+            f"pole {radius:.3f} m, friction {friction:.1f}",
+            {"pole_radius": radius, "friction": friction},
+        )
+        for radius, friction in itertools.product(POLE_RADII, FRICTIONS)
+    ]
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
@@ -34,17 +61,20 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--policy", default=str(DEFAULT_POLICY))
     parser.add_argument("--episodes", type=int, default=5)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument(
+        "--held-out", action="store_true", help="conditions outside the training ranges"
+    )
     parser.add_argument("--json", help="write the rows to this JSON file")
     args = parser.parse_args(argv)
     folder = read_policy_folder(args.policy)
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
-    for radius, friction in itertools.product(POLE_RADII, FRICTIONS):
-        overrides = {"pole_radius": radius, "friction": friction}
+    conditions = list(HELD_OUT) if args.held_out else grid_conditions()
+    for label, overrides in conditions:
         controllers, notes = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
         results = evaluate(controllers, seeds, progress=False, pool=pool)
-        row: dict = {"pole_radius": radius, "friction": friction}
+        row: dict = {"condition": label, "overrides": overrides}
         for name, episodes in results.items():
             summary = summarize(episodes)
             row[name] = {column: summary[column]["mean"] for column in COLUMNS}
@@ -52,8 +82,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         if not rows:
             names = list(results)
             print("\n".join(note for note in notes if "skipped" in note))
-            print("| pole radius (m) | friction | " + " | ".join(names) + " |")
-            print("|---" * (2 + len(names)) + "|")
+            print("cells: climb per gait cycle (m) / slip per metre / largest touched arc / falls")
+            print("| condition | " + " | ".join(names) + " |")
+            print("|---" * (1 + len(names)) + "|")
         rows.append(row)
         print(_format(row, names), flush=True)
     if pool is not None:
@@ -64,10 +95,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
 
 def _format(row: dict, names: list[str]) -> str:
-    cells = [f"| {row['pole_radius']:.3f} | {row['friction']:.1f}"]
+    cells = [f"| {row['condition']}"]
     for name in names:
         r = row[name]
-        cells.append(f"{r['climb_per_cycle_m']:.3f} / {r['slip_per_cycle_m']:.3f} / {r['falls']}")
+        cells.append(
+            f"{r['climb_per_gait_cycle_m']:.3f} / {r['slip_per_m']:.2f} / "
+            f"{r['touched_arc_deg']:.0f} / {r['falls']}"
+        )
     return " | ".join(cells) + " |"
 
 

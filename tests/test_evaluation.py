@@ -323,6 +323,9 @@ BAD_ARGUMENTS = [
     (["--json", "{tmp}"], "--json"),
     (["--plot", "{tmp}/x.xyz"], "--plot"),
     (["--video", "{tmp}/missing/x.mp4"], "--video"),
+    (["--video", "{tmp}/x.gif", "--video-beside", "no_such_controller"], "--video-beside"),
+    (["--video-beside", "open_loop_acl"], "--video-beside"),  # without --video
+    (["--video", "{tmp}/x.gif", "--video-speedup", "0"], "--video-speedup"),
     (["--policy", "{tmp}/missing"], "--policy"),
     (["--policy", "{tmp}"], "--policy"),  # no config.yml
     (["--policy", "{bad:config.yml:}"], "--policy"),  # empty config.yml
@@ -445,3 +448,24 @@ def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits
     assert "gait_modulation" not in by_name["open_loop_tuned"].env_kwargs
     env = gymnasium.make(by_name["open_loop_acl"].env_id, **by_name["open_loop_acl"].env_kwargs)
     assert env.unwrapped.squeeze == 0.008  # the default gait's
+
+
+def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
+    """--video with --video-beside: one labelled panel per controller, the same seed, a frame at
+    the start and after every step of the longest episode."""
+    import imageio
+
+    from acl_env.training.evaluate import Controller, record_video
+
+    small = {**SHORT, "width": 64, "height": 48}
+    controllers = [
+        Controller("open_loop_acl", ACL_CLIMB_ID, small),
+        Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, small),
+    ]
+    path = tmp_path / "side.gif"
+    record_video(controllers, 0, path, speedup=4.0)
+    frames = imageio.mimread(path)
+    assert len(frames) == 1 + SHORT["steps_per_cycle"] * SHORT["cycles_per_episode"]
+    assert frames[0].shape[:2] == (48, 128)
+    left, right = frames[-1][:, :64], frames[-1][:, 64:]
+    assert not np.array_equal(left, right)  # two different gaits

@@ -28,7 +28,7 @@ import argparse
 import json
 import multiprocessing
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -308,15 +308,44 @@ def plot_heights(results: dict[str, list[Episode]], path: str | Path) -> None:
     plt.close(fig)
 
 
-def record_video(controller: Controller, seed: int, path: str | Path) -> None:
-    """One episode of ``controller`` rendered offscreen (``rgb_array``) to a video file."""
+def record_video(
+    controllers: Sequence[Controller], seed: int, path: str | Path, speedup: float = 1.0
+) -> None:
+    """One episode (reset ``seed``) of each controller rendered offscreen (``rgb_array``), side
+    by side and labelled, to a video file; a shorter episode holds its last frame. ``speedup``
+    times real time (one frame per env step)."""
     import imageio
 
-    env = controller.make_env(render_mode="rgb_array")
-    frames: list[np.ndarray] = []
-    run_episode(env, controller.make_policy(env), seed, lambda env, *_: frames.append(env.render()))
-    env.close()
-    imageio.mimsave(path, frames, fps=max(1, round(1.0 / env.unwrapped.dt)))
+    panels = []
+    for controller in controllers:
+        env = controller.make_env(render_mode="rgb_array")
+        frames: list[np.ndarray] = []
+        run_episode(env, controller.make_policy(env), seed, _grab(frames))
+        env.close()
+        panels.append([_label(frame, controller.name) for frame in frames])
+    length = max(len(frames) for frames in panels)
+    video = [
+        np.concatenate([frames[min(i, len(frames) - 1)] for frames in panels], axis=1)
+        for i in range(length)
+    ]
+    fps = max(1, round(speedup / env.unwrapped.dt))
+    imageio.mimsave(path, video, fps=fps)
+
+
+def _grab(frames: list[np.ndarray]) -> Callable[..., None]:
+    """A ``run_episode`` hook that appends each step's rendered frame to ``frames``."""
+    return lambda env, *_: frames.append(env.render())
+
+
+def _label(frame: np.ndarray, text: str) -> np.ndarray:
+    """The frame with ``text`` in its top-left corner (Pillow, which matplotlib brings)."""
+    from PIL import Image, ImageDraw
+
+    image = Image.fromarray(frame)
+    draw = ImageDraw.Draw(image)
+    draw.rectangle((0, 0, 8 + 7 * len(text), 18), fill=(0, 0, 0))
+    draw.text((4, 3), text, fill=(255, 255, 255))
+    return np.asarray(image)
 
 
 # --- command line --------------------------------------------------------------------------------
@@ -363,6 +392,19 @@ def make_parser() -> cli.ArgumentParser:
         "--video",
         type=cli.output_file(".mp4", ".gif"),
         help="mp4 or gif of the first episode of the policy (of open-loop ACL with --no-policy)",
+    )
+    parser.add_argument(
+        "--video-beside",
+        nargs="+",
+        default=[],
+        metavar="CONTROLLER",
+        help="controllers shown beside it in the video, same seed (e.g. open_loop_tuned)",
+    )
+    parser.add_argument(
+        "--video-speedup",
+        type=cli.positive_float,
+        default=1.0,
+        help="video speed, times real time (default 1)",
     )
     parser.add_argument(
         "--workers", type=cli.int_at_least(1), default=2, help="processes running episodes"
@@ -423,6 +465,12 @@ def _checked_controllers(
             parser.error(f"argument --policy: {error}")
         finally:
             env.close()
+    names = [c.name for c in controllers]
+    unknown = [name for name in args.video_beside if name not in names]
+    if unknown:
+        parser.error(f"argument --video-beside: unknown controllers {unknown}; these run: {names}")
+    if args.video_beside and not args.video:
+        parser.error("argument --video-beside: needs --video")
     return controllers, notes
 
 
@@ -455,5 +503,6 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     if args.plot:
         plot_heights(results, args.plot)
     if args.video:
-        record_video(controllers[0], seeds[0], args.video)
+        shown = [controllers[0], *(by_name[name] for name in args.video_beside)]
+        record_video(shown, seeds[0], args.video, args.video_speedup)
     return document

@@ -107,7 +107,7 @@ def test_pickled_env_reproduces_reset_and_step() -> None:
 
 
 def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
-    env = gym.make(ACL_CLIMB_ID, reward_weights={"climb": 2.0, "slip": 3.0})
+    env = gym.make(ACL_CLIMB_ID, reward_weights={"climb": 2.0, "slip": 3.0, "energy": 1e-3})
     obs, _ = env.reset(seed=0)
     assert env.observation_space.contains(obs)
     rng = np.random.default_rng(2)
@@ -116,11 +116,13 @@ def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
         terms = [v for k, v in info.items() if k.startswith("reward_")]
         assert sorted(k for k in info if k.startswith("reward_")) == [
             "reward_climb",
+            "reward_energy",
             "reward_roll",
             "reward_slip",
         ]
         assert reward == sum(terms)
         assert info["reward_roll"] == 0.0  # off by default (the non-rolling task weighs it)
+        assert info["reward_energy"] == -1e-3 * info["energy"] < 0.0
         assert info["reward_climb"] == 2.0 * info["climb"]
         assert info["reward_slip"] == -3.0 * info["slip"]
         assert info["slip"] >= 0.0 and info["energy"] >= 0.0

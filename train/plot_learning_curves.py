@@ -21,8 +21,10 @@ from tensorboard.backend.event_processing.event_accumulator import EventAccumula
 PANELS = {
     "charts/episode_climb": "episode climb (m)",
     "charts/slip": "slip per step (m)",
+    "charts/energy": "energy per step (J)",
     "rollout/ep_rew_mean": "episode return",
-    "train/std": "action std",
+    # With gSDE (use_sde) SB3 logs the std of the noise weights, not of the actions.
+    "train/std": "action std (gSDE: noise weights)",
 }
 
 

@@ -154,7 +154,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     MuJoCo's contact velocities (tangential ``efc_vel`` rows), sampled 5 times per step. Weights in
     ``reward_weights`` (default 1 and 1), and ``reward_roll = -w_roll * roll`` (default weight 0,
     so off): the growth over the step of the range each module's roll has swept since the
-    episode started, mean over modules (rad; see "Body roll"). ``info`` carries every
+    episode started, mean over modules (rad; see "Body roll"), and ``reward_energy =
+    -w_energy * energy`` (default weight 0: off): the actuator work of the step (J). ``info`` carries every
     ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``, ``energy`` (J: actuator work
     sum |tau qdot| dt, as spent by motors that do not regenerate), ``com_height``, ``phase``
     (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
@@ -278,8 +279,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
       argument ``timestep`` (``timestep=0.002`` is the v0 physics). Open-loop climbing stays
       within 2 % (climb) and 15 % (slip, energy per metre) of a 1 ms step in every condition of
       ``benchmarks/fidelity.py``; slip reads up to 15 % higher than at 1 ms (v0: up to 6 %).
-      Later options that leave the default dynamics unchanged: ``roll_limit``,
-      ``gait_modulation`` and ``modulation_sections`` (a zero modulation action is bit-identical
+      Later options that leave the default dynamics and reward unchanged: ``roll_limit``,
+      the ``roll`` and ``energy`` reward terms (weight 0), ``gait_modulation`` and
+      ``modulation_sections`` (a zero modulation action is bit-identical
       to the env without it).
     * v0: initial release.
     """
@@ -654,7 +656,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         roll = 0.0 if unstable else self._roll.update(self._body_roll.angles())
         roll_span = float(self._roll.span_deg.max())
         rolled = not unstable and termination.rolled(roll_span, self.roll_limit)
-        terms = reward_terms(self.reward_weights, StepMeasures(climb, slip, roll))
+        measures = StepMeasures(climb, slip, roll, 0.0 if unstable else energy)
+        terms = reward_terms(self.reward_weights, measures)
         reward = sum(terms.values())
         terminated = fell or unstable or rolled
         truncated = self._step_count >= self.steps_per_cycle * self.cycles_per_episode

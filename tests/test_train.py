@@ -93,6 +93,30 @@ def test_config_entries_build_ppo_arguments() -> None:
         assert not set(kwargs) & set(config.NON_ALGO_KEYS)
 
 
+def test_shipped_recipe_plays_the_tuned_gait() -> None:
+    """ppo.yml's ACLClimb-v1 entry starts from the tuner's "acl" gait, with the tuner's reward
+    weights, and without the cadence action (judged per gait cycle)."""
+    hyperparams = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", ACL_ID)
+    tuned = yaml.safe_load((TRAIN / "configs" / "tuned_gaits.yml").read_text())["acl"]
+    env_kwargs = hyperparams["env_kwargs"]
+    assert env_kwargs["squeeze"] == tuned["env_kwargs"]["squeeze"]
+    assert env_kwargs["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
+    assert env_kwargs["reward_weights"] == tuned["reward_weights"]
+    assert env_kwargs.get("phase_rate_range") is None
+
+
+@pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))
+def test_ablation_configs_are_valid_recipes(path: Path) -> None:
+    """Each ablation config is a zoo file the trainer accepts, whose env kwargs build the env."""
+    from acl_env.training.checks import check_env_kwargs, check_hyperparams
+
+    hyperparams = config.load_hyperparams(path, ACL_ID)
+    check_hyperparams(hyperparams, str(path))
+    env_kwargs = {**hyperparams["env_kwargs"], **SHORT}
+    check_env_kwargs(ACL_ID, env_kwargs).close()
+    assert hyperparams["env_kwargs"]["reward_weights"]["slip"] == 2.0  # the mission's weights
+
+
 def test_config_strings_are_parsed_without_eval() -> None:
     """Zoo strings become objects; code is rejected instead of run."""
     import torch

@@ -1,0 +1,92 @@
+"""Is the tuned gait's grip already where it should be? Fixed per-section squeeze patterns.
+
+``python benchmarks/grip_patterns.py [--seeds 3] [--scale 0.003] [--json PATH]``: the tuned
+open-loop ACL gait (``acl`` in ``train/configs/tuned_gaits.yml``) with a constant gait-modulation
+action (:mod:`acl_env.envs.modulation`): the squeeze offset by ``+-scale`` in some of the four body
+sections (head first), the authority the grip ablation's policy had. Two cycles per reset seed at
+default conditions, reward weights climb 1, slip 2 (the tuner's). Prints each pattern's climb per
+gait cycle, slip and energy per metre and reward per gait cycle, as ratios to the tuned gait. A
+pattern above 1 in reward would be a grip the tuner's family (one squeeze for the whole body)
+cannot express and a policy could learn by holding it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections.abc import Callable
+
+import gymnasium
+import numpy as np
+import yaml
+from tqdm import tqdm
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.evaluation import run_episode
+from acl_env.training.evaluate import DEFAULT_TUNED_GAITS
+
+# Section offsets in units of --scale, head first: one section, the whole body, ends against
+# middle, front against back.
+PATTERNS: tuple[tuple[int, int, int, int], ...] = (
+    (0, 0, 0, 0),
+    (1, 0, 0, 0),
+    (0, 0, 0, 1),
+    (1, 1, 1, 1),
+    (-1, -1, -1, -1),
+    (1, -1, -1, 1),
+    (-1, 1, 1, -1),
+    (1, 1, -1, -1),
+    (-1, -1, 1, 1),
+    (0, -1, -1, 0),
+    (-1, 0, 0, -1),
+)
+COLUMNS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")
+
+
+def constant(action: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """The policy that always plays ``action``."""
+    return lambda obs: action
+
+
+def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--scale", type=float, default=0.003, help="squeeze offset (m)")
+    parser.add_argument("--json", help="write the table to this JSON file")
+    args = parser.parse_args(argv)
+    if args.seeds < 1:
+        parser.error("--seeds must be at least 1")
+    tuned = yaml.safe_load(DEFAULT_TUNED_GAITS.read_text())["acl"]
+    env = gymnasium.make(
+        ACL_CLIMB_ID,
+        **tuned["env_kwargs"],
+        reward_weights=tuned["reward_weights"],
+        gait_modulation={"squeeze": args.scale},
+    )
+    n_joints = env.unwrapped.n_joints
+    table: dict[str, dict[str, float]] = {}
+    for pattern in tqdm(PATTERNS, leave=False):
+        action = np.zeros(env.action_space.shape, dtype=np.float32)
+        action[n_joints:] = pattern
+        hold = constant(action)
+        runs = [run_episode(env, hold, seed).metrics() for seed in range(args.seeds)]
+        row = {column: float(np.mean([r[column] for r in runs])) for column in COLUMNS}
+        row["falls"] = float(sum(r["falls"] for r in runs))
+        table[str(pattern)] = row
+    env.close()
+    base = table[str(PATTERNS[0])]
+    print(f"tuned gait, squeeze offsets of {1000 * args.scale:.1f} mm per section (head first);")
+    print(f"ratios to the tuned gait, {args.seeds} seeds x 2 cycles")
+    print("| sections | climb / gait cycle | slip / m | energy / m | reward / gait cycle | falls |")
+    print("|---|---|---|---|---|---|")
+    for name, row in table.items():
+        ratios = " | ".join(f"{row[c] / base[c]:.3f}" for c in COLUMNS)
+        print(f"| {name} | {ratios} | {row['falls']:.0f} |")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(table, f, indent=2)
+    return table
+
+
+if __name__ == "__main__":
+    main()

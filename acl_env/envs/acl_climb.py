@@ -155,8 +155,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``reward_weights`` (default 1 and 1), and ``reward_roll = -w_roll * roll`` (default weight 0,
     so off): the growth over the step of the range each module's roll has swept since the
     episode started, mean over modules (rad; see "Body roll"), and ``reward_energy =
-    -w_energy * energy`` (default weight 0: off): the actuator work of the step (J). ``info`` carries every
-    ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``, ``energy`` (J: actuator work
+    -w_energy * energy`` (default weight 0: off): the actuator work of the step (J).
+    ``info`` carries every ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``, ``energy`` (J: actuator work
     sum |tau qdot| dt, as spent by motors that do not regenerate), ``com_height``, ``phase``
     (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
 

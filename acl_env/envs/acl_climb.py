@@ -156,9 +156,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     so off): the growth over the step of the range each module's roll has swept since the
     episode started, mean over modules (rad; see "Body roll"), and ``reward_energy =
     -w_energy * energy`` (default weight 0: off): the actuator work of the step (J).
-    ``info`` carries every ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``, ``energy`` (J: actuator work
-    sum |tau qdot| dt, as spent by motors that do not regenerate), ``com_height``, ``phase``
-    (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
+    ``info`` carries every ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``,
+    ``energy`` (J: actuator work sum |tau qdot| dt, as spent by motors that do not regenerate),
+    ``com_height``, ``phase`` (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
 
     ## Body roll
     Measured in the simulation, not read from the gait's command (a "non-rolling" command can

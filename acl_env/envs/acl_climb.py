@@ -158,7 +158,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     -w_energy * energy`` (default weight 0: off): the actuator work of the step (J).
     ``info`` carries every ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``,
     ``energy`` (J: actuator work sum |tau qdot| dt, as spent by motors that do not regenerate),
-    ``com_height``, ``phase`` (cycles) and ``phase_rate`` (keyframes advanced, 1 unless ``phase_rate_range`` is set).
+    ``com_height``, ``phase`` (cycles) and ``phase_rate`` (keyframes advanced, 1 unless
+    ``phase_rate_range`` is set).
 
     ## Body roll
     Measured in the simulation, not read from the gait's command (a "non-rolling" command can

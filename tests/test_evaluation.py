@@ -425,9 +425,10 @@ def test_python_m_acl_env_plays_the_gait(
 def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits(
     tmp_path: Path,
 ) -> None:
-    """A policy trained on the tuned gait with gait modulation: the open-loop ACL controller is
-    the env's default gait (no gait_kwargs, squeeze or modulation), the rolling helix gets none
-    of the ACL gait's shape, and the tuned controller is the tuned gait; the policy keeps all."""
+    """A policy trained on the tuned gait with gait modulation and cadence: the open-loop ACL
+    controller is the env's default gait (no gait_kwargs, squeeze or modulation), the rolling
+    helix gets none of the ACL gait's shape, the tuned controller is the tuned gait, the
+    same-cadence one the policy's own gait; the policy keeps all."""
     from acl_env.training.evaluate import build_controllers
     from acl_env.training.policy import PolicyFolder
 
@@ -437,6 +438,7 @@ def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits
         "squeeze": 0.004,
         "gait_kwargs": {"amp_pitch": 0.02, "rolls_per_cycle": 1},
         "gait_modulation": {"squeeze": 0.0015},
+        "phase_rate_range": [0.5, 1.5],
         "reward_weights": weights,
     }
     folder = PolicyFolder(
@@ -451,6 +453,10 @@ def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits
         assert not {"squeeze", "gait_kwargs", "gait_modulation"} & set(kwargs), (name, kwargs)
         assert kwargs["reward_weights"] == weights
     assert by_name["open_loop_tuned"].env_kwargs["squeeze"] == 0.004, notes
+    # The same-cadence open loop is the policy's own (reshaped) gait, without the modulation.
+    same = by_name["open_loop_acl_same_cadence"].env_kwargs
+    assert same["squeeze"] == 0.004 and same["gait_kwargs"] == reshaped["gait_kwargs"]
+    assert "gait_modulation" not in same
     assert "gait_modulation" not in by_name["open_loop_tuned"].env_kwargs
     env = gymnasium.make(by_name["open_loop_acl"].env_id, **by_name["open_loop_acl"].env_kwargs)
     assert env.unwrapped.squeeze == 0.008  # the default gait's

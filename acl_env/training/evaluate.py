@@ -7,8 +7,9 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
   ACL, so a non-rolling task is judged against its own open loop; the env's registered gait,
   without the ``gait_kwargs`` or ``squeeze`` a policy may have been trained on);
 * ``open_loop_acl_same_cadence``: only when the policy sets the cadence (``phase_rate_range``):
-  the same open loop played at the policy's mean phase rate, so what the policy adds beyond
-  running the gait faster shows;
+  the policy's own base gait (with any ``gait_kwargs`` or ``squeeze`` it was trained on) played
+  open loop at the policy's mean phase rate, so what the policy adds beyond running its gait
+  faster shows;
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
@@ -256,8 +257,11 @@ def build_controllers(
             acl_id = folder.env_id
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
     if folder is not None:
-        if env_setting(acl_id, acl_kwargs, "phase_rate_range") is not None:
-            controllers.append(Controller(SAME_CADENCE, acl_id, acl_kwargs, phase_rate=1.0))
+        if env_setting(folder.env_id, open_loop, "phase_rate_range") is not None:
+            # The policy's own base gait (reshaped or not) at the policy's cadence: what the
+            # policy adds beyond running its gait faster.
+            same = Controller(SAME_CADENCE, folder.env_id, open_loop, phase_rate=1.0)
+            controllers.append(same)
         else:
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))

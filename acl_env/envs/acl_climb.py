@@ -535,8 +535,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         return self.gait.cycle()
 
     def _gait_offset_tables(self, pole_radius: float) -> np.ndarray | None:
-        """d(keyframe table)/d(modulated parameter) (envs/modulation.py), at the pole radius
-        rounded to 1 mm; None without modulation."""
+        """The gait's keyframe tables with each modulated parameter offset, less the base table
+        (envs/modulation.py), at the pole radius rounded to 1 mm; None without modulation."""
         if not self._modulated or self.gait is None:
             return None
         items = tuple(sorted(self._gait_kwargs(table_radius(pole_radius)).items()))
@@ -608,9 +608,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Play one keyframe (0.1 s) of the gait plus the residual.
 
-        reward = w_climb * climb - w_slip * slip - w_roll * roll: the centre-of-mass rise, the mean
-        sliding distance of the snake-pole contacts and the growth of the body's swept roll over
-        the step (``envs/rewards.py``; ``info`` holds every weighted term).
+        reward = w_climb * climb - w_slip * slip - w_roll * roll - w_energy * energy: the
+        centre-of-mass rise, the mean sliding distance of the snake-pole contacts, the growth of
+        the body's swept roll and the actuator work over the step (``envs/rewards.py``; ``info``
+        holds every weighted term).
         """
         action = np.asarray(action, dtype=np.float64)
         if action.shape != self.action_space.shape:

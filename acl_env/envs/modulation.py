@@ -105,7 +105,10 @@ def offset_tables(
         low, high = _bounds(key, value, base)
         for g in grid:
             shifted = min(max(value + sign * scale * g, low), high)
-            rows.append(gait_class(**{**base, key: shifted}).cycle() - base_table)
+            if shifted == value:  # the grid's centre (or a bound at the base value): no change
+                rows.append(np.zeros_like(base_table))
+            else:
+                rows.append(gait_class(**{**base, key: shifted}).cycle() - base_table)
         out.append(np.stack(rows))
     tables = np.stack(out)
     tables.setflags(write=False)

@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import json
 import math
+import multiprocessing
 import os
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import gymnasium
 import numpy as np
@@ -45,7 +47,29 @@ def tiny_args(tmp_path: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> l
 
 
 def load(tmp_path: Path, name: str = "acl") -> optuna.Study:
-    return optuna.load_study(study_name=name, storage=f"sqlite:///{tmp_path / 'study.db'}")
+    return optuna.load_study(
+        study_name=name, storage=tuning.open_storage(str(tmp_path / "study.db"))
+    )
+
+
+def _open_after(barrier: Any, path: str) -> str:
+    barrier.wait()
+    try:
+        tuning.open_storage(path)
+    except tuning.UsageError as exc:
+        return str(exc)
+    return "ok"
+
+
+def test_processes_opening_one_new_database_at_once_all_succeed(tmp_path: Path) -> None:
+    # Workers started together on a new SQLite file race to create Optuna's tables; the losers
+    # wait for the winner instead of failing with a duplicate table or version row.
+    ctx = multiprocessing.get_context("spawn")
+    barrier = ctx.Manager().Barrier(4)
+    with ctx.Pool(4) as pool:
+        for attempt in range(5):  # the race is not lost every time: try a few new files
+            path = str(tmp_path / f"study{attempt}.db")
+            assert pool.starmap(_open_after, [(barrier, path)] * 4) == ["ok"] * 4
 
 
 def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) -> None:

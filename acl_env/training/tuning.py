@@ -78,6 +78,7 @@ from typing import Any
 import gymnasium
 import numpy as np
 import optuna
+import sqlalchemy.exc
 import yaml
 from tqdm import tqdm
 
@@ -295,17 +296,41 @@ def open_storage(storage: str) -> optuna.storages.RDBStorage:
             raise UsageError("--storage", f"{path} is a folder, not a database file")
         if not path.parent.exists():
             path.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        with warnings.catch_warnings():  # heartbeat_interval: experimental since Optuna 2.9
-            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            return optuna.storages.RDBStorage(
-                url,
-                engine_kwargs={"connect_args": {"timeout": 60}} if url.startswith("sqlite") else {},
-                heartbeat_interval=30,
-                grace_period=120,
-            )
-    except Exception as exc:  # SQLAlchemy raises many types: all mean "cannot use this storage"
-        raise UsageError("--storage", f"cannot open {storage!r}: {exc}".splitlines()[0]) from None
+    for attempt in range(_CREATE_ATTEMPTS):
+        try:
+            with warnings.catch_warnings():  # heartbeat_interval: experimental since Optuna 2.9
+                warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+                return optuna.storages.RDBStorage(
+                    url,
+                    engine_kwargs={"connect_args": {"timeout": 60}}
+                    if url.startswith("sqlite")
+                    else {},
+                    heartbeat_interval=30,
+                    grace_period=120,
+                )
+        except Exception as exc:  # SQLAlchemy raises many types: all mean "cannot use it"
+            if _lost_creation_race(exc) and attempt + 1 < _CREATE_ATTEMPTS:
+                time.sleep(0.2 * (attempt + 1))  # another process is creating the tables
+                continue
+            raise UsageError(
+                "--storage", f"cannot open {storage!r}: {exc}".splitlines()[0]
+            ) from None
+    raise AssertionError("unreachable")
+
+
+_CREATE_ATTEMPTS = 8
+
+
+def _lost_creation_race(exc: Exception) -> bool:
+    """Whether ``exc`` is another process creating the same new database's tables at once.
+
+    Two workers started together on a new SQLite file both try to create Optuna's schema; the
+    loser sees a duplicate table or version row. Once the winner is done, opening succeeds.
+    """
+    text = str(exc)
+    return isinstance(exc, sqlalchemy.exc.IntegrityError | sqlalchemy.exc.OperationalError) and (
+        "already exists" in text or "UNIQUE constraint failed: alembic_version" in text
+    )
 
 
 # --- the objective --------------------------------------------------------------------------------

@@ -19,9 +19,7 @@ load hits both sides alike.
 from __future__ import annotations
 
 import argparse
-import json
 import time
-from pathlib import Path
 
 import gymnasium as gym
 import mujoco
@@ -31,6 +29,8 @@ from tqdm import tqdm
 from acl_env import ACL_CLIMB_ID
 from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.acl_climb import SLIP_SAMPLES
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -139,7 +139,9 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     parser.add_argument("--steps", type=int, default=400, help="env steps per round and side")
     parser.add_argument("--rounds", type=int, default=7, help="alternating rounds (median)")
     parser.add_argument("--skip-vector", action="store_true", help="skip the process scaling")
-    parser.add_argument("--json", help="write the figures to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the figures to this JSON file"
+    )
     args = parser.parse_args(argv)
 
     figures: dict[str, float] = {"default_timestep_ms": 1e3 * PHYSICS_TIMESTEP}
@@ -153,7 +155,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         if not isinstance(value, list):
             print(f"{key:34s} {value:10.3f}")
     if args.json:
-        Path(args.json).write_text(json.dumps(figures, indent=2))
+        write_json(args.json, figures)
     return figures
 
 

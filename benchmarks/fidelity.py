@@ -19,7 +19,6 @@ speed-up is against the v0 2 ms step.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -35,6 +34,8 @@ from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
 from acl_env.constants import CONTACT_TIMECONST, FIDELITY_TOLERANCES, PHYSICS_TIMESTEP
 from acl_env.envs import termination
 from acl_env.evaluation import run_episode
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 
 @dataclass(frozen=True)
@@ -319,7 +320,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     )
     parser.add_argument("--cost-steps", type=int, default=100, help="steps per cost block")
     parser.add_argument("--cost-rounds", type=int, default=7, help="cost rounds (median)")
-    parser.add_argument("--json", help="write the summary to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the summary to this JSON file"
+    )
     parser.add_argument("--figure", help="write the error-vs-speed-up figure to this PNG")
     args = parser.parse_args(argv)
     settings = list(dict.fromkeys([REFERENCE, BASELINE, *(args.settings or SETTINGS)]))
@@ -355,7 +358,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     if default:
         print(f"The env's default physics step ({1e3 * PHYSICS_TIMESTEP:g} ms) is {default[0]!r}.")
     if args.json:
-        Path(args.json).write_text(json.dumps(summary, indent=2))
+        write_json(args.json, summary)
     if args.figure:
         plot(summary, Path(args.figure))
     return summary

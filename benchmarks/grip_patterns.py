@@ -13,7 +13,6 @@ cannot express and a policy could learn by holding it.
 from __future__ import annotations
 
 import argparse
-import json
 from collections.abc import Callable
 
 import gymnasium
@@ -23,7 +22,9 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID
 from acl_env.evaluation import run_episode
+from acl_env.training import cli
 from acl_env.training.evaluate import DEFAULT_TUNED_GAITS
+from acl_env.training.runs import write_json
 
 # Section offsets in units of --scale, head first: one section, the whole body, ends against
 # middle, front against back.
@@ -52,7 +53,9 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--scale", type=float, default=0.003, help="squeeze offset (m)")
-    parser.add_argument("--json", help="write the table to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
+    )
     args = parser.parse_args(argv)
     if args.seeds < 1:
         parser.error("--seeds must be at least 1")
@@ -83,8 +86,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
         ratios = " | ".join(f"{row[c] / base[c]:.3f}" for c in COLUMNS)
         print(f"| {name} | {ratios} | {row['falls']:.0f} |")
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(table, f, indent=2)
+        write_json(args.json, table)
     return table
 
 

@@ -22,7 +22,6 @@ episodes, whiskers: the largest) and where on each module's circumference the po
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 from typing import Any
@@ -33,7 +32,7 @@ import gymnasium
 import numpy as np
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID
-from acl_env.evaluation import Episode, jsonable
+from acl_env.evaluation import Episode
 from acl_env.training import cli
 from acl_env.training.evaluate import (
     DEFAULT_TUNED_GAITS,
@@ -44,6 +43,7 @@ from acl_env.training.evaluate import (
     tuned_gait,
 )
 from acl_env.training.policy import read_policy_folder
+from acl_env.training.runs import write_json
 
 ARC_TARGET_DEG = 90.0  # issue 11: at most 90 degrees on every module, every episode
 
@@ -191,7 +191,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "notes": notes,
     }
     if args.json is not None:
-        args.json.write_text(json.dumps(jsonable(document), indent=1))
+        write_json(args.json, document, indent=1)
     return document
 
 

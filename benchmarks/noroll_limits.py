@@ -12,7 +12,6 @@ does the grip fail first?
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 import gymnasium
@@ -21,6 +20,8 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_NOROLL_ID, NOROLL_KWARGS
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 TUNED_GAIT: dict[str, Any] = dict(NOROLL_KWARGS["gait_kwargs"])
 TUNED_SQUEEZE = float(NOROLL_KWARGS["squeeze"])
@@ -41,7 +42,9 @@ VARIANTS: dict[str, tuple[dict[str, Any], float | None]] = {
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3)
-    parser.add_argument("--json", help="write the table to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
+    )
     args = parser.parse_args(argv)
     if args.seeds < 1:
         parser.error("--seeds must be at least 1")
@@ -78,8 +81,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             f"| {row['ended_early']}/{row['n']} |"
         )
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(table, f, indent=2)
+        write_json(args.json, table)
     return table
 
 

@@ -9,7 +9,6 @@ any module (:mod:`acl_env.evaluation`).
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 import gymnasium
@@ -18,6 +17,8 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (1 roll/cycle)": (ACL_CLIMB_ID, {}),
@@ -30,7 +31,9 @@ COLUMNS = ("climb_per_cycle_m", "slip_per_cycle_m", "touched_arc_deg")
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--json", help="write the table to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
+    )
     args = parser.parse_args(argv)
     if args.seeds < 2:
         parser.error("--seeds must be at least 2 (a standard deviation needs two)")
@@ -59,8 +62,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             f"| {row['falls']}/{row['n']} |"
         )
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(table, f, indent=2)
+        write_json(args.json, table)
     return table
 
 

@@ -28,7 +28,6 @@ one of its two links).
 from __future__ import annotations
 
 import argparse
-import json
 import multiprocessing as mp
 import sys
 from collections.abc import Sequence
@@ -40,6 +39,8 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 ACL_ID = ACL_CLIMB_ID
 HELIX_ID = ROLLING_HELIX_CLIMB_ID
@@ -308,7 +309,9 @@ def setting_label(row: Rollout) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--json", type=Path, help="write the tables as JSON here")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the tables as JSON here"
+    )
     parser.add_argument("--plot", type=Path, help="write a figure of both tables here")
     parser.add_argument("--trials", type=int, default=8, help="Table 2 rollouts per gait (>= 5)")
     parser.add_argument("--seed", type=int, default=0, help="reset seed of Table 1, first of 2")
@@ -366,8 +369,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
 
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps({"table1": table1, "table2": table2}, indent=2) + "\n")
+        write_json(args.json, {"table1": table1, "table2": table2})
         print(f"wrote {args.json}")
     if args.plot:
         args.plot.parent.mkdir(parents=True, exist_ok=True)

@@ -12,10 +12,9 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import json
-from pathlib import Path
 
 from acl_env.evaluation import summarize
+from acl_env.training import cli
 from acl_env.training.evaluate import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
@@ -24,6 +23,7 @@ from acl_env.training.evaluate import (
     make_pool,
 )
 from acl_env.training.policy import read_policy_folder
+from acl_env.training.runs import write_json
 
 POLE_RADII = (0.065, 0.075, 0.09)
 FRICTIONS = (0.7, 1.0, 1.2)
@@ -64,7 +64,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument(
         "--held-out", action="store_true", help="conditions outside the training ranges"
     )
-    parser.add_argument("--json", help="write the rows to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the rows to this JSON file"
+    )
     args = parser.parse_args(argv)
     folder = read_policy_folder(args.policy)
     seeds = list(range(args.episodes))
@@ -90,7 +92,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     if pool is not None:
         pool.shutdown()
     if args.json:
-        Path(args.json).write_text(json.dumps(rows, indent=2) + "\n")
+        write_json(args.json, rows)
     return rows
 
 

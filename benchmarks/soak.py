@@ -18,7 +18,6 @@ import math
 import resource
 import time
 import traceback
-from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -27,6 +26,8 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 CONFIGS: list[tuple[str, dict[str, Any]]] = [
     (ACL_CLIMB_ID, {}),
@@ -158,13 +159,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=100_000, help="random-action env steps")
     parser.add_argument("--seed", type=int, default=0, help="seed of the actions and resets")
-    parser.add_argument("--json", help="write the figures to this JSON file")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the figures to this JSON file"
+    )
     args = parser.parse_args(argv)
     if args.steps < 1:
         parser.error(f"--steps must be >= 1, got {args.steps}")
-    if args.json and not Path(args.json).resolve().parent.is_dir():
-        parser.error(f"--json: folder {Path(args.json).parent} does not exist")
-
     figures = soak(args.steps, args.seed)
     for key, value in figures.items():
         if key == "errors":
@@ -176,8 +176,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     for error in figures["errors"]:
         print(error)
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(figures, f, indent=2)
+        write_json(args.json, figures)
     return figures
 
 

@@ -27,6 +27,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 from acl_env import ACL_CLIMB_ID
 from acl_env.training import trainer
+from acl_env.training.runs import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 ROLLOUT = 128  # env steps per update: n_steps 64 x 2 envs
@@ -428,3 +429,17 @@ def test_several_envs_per_worker_step_like_one_process() -> None:
     finally:
         workers.close()
         local.close()
+
+
+def test_write_json_writes_strict_json_atomically(tmp_path: Path) -> None:
+    path = tmp_path / "figures.json"
+    path.write_text("old")
+    document = {"ratio": np.float32(1.5), "ci": np.array([0.1, 0.2]), "missing": float("nan")}
+    write_json(path, document)
+    # NaN is not JSON: strict parsers reject it, so it is written as null.
+    parsed = json.loads(path.read_text(), parse_constant=lambda name: pytest.fail(name))
+    assert parsed == {"ratio": 1.5, "ci": [0.1, 0.2], "missing": None}
+    assert [p.name for p in tmp_path.iterdir()] == ["figures.json"]  # no temporary file left
+    with pytest.raises(TypeError):  # not JSON at all: the old file stays whole
+        write_json(path, {"bad": object()})
+    assert json.loads(path.read_text())["ratio"] == 1.5

@@ -9,7 +9,6 @@ policy's action std, against environment steps. ``--json PATH`` also writes the 
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import matplotlib
@@ -17,6 +16,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+from acl_env.training import cli
+from acl_env.training.runs import write_json
 
 PANELS = {
     "charts/episode_climb": "episode climb (m)",
@@ -45,7 +47,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("runs", nargs="+", help="run folders (with tb/ logs)")
     parser.add_argument("--labels", nargs="*", help="one label per run (default: folder names)")
     parser.add_argument("--out", required=True, help="image file")
-    parser.add_argument("--json", help="write the curves as JSON")
+    parser.add_argument("--json", type=cli.output_file(".json"), help="write the curves as JSON")
     args = parser.parse_args(argv)
     labels = args.labels or [Path(run).name for run in args.runs]
     if len(labels) != len(args.runs):
@@ -65,7 +67,7 @@ def main(argv: list[str] | None = None) -> None:
     fig.savefig(args.out, dpi=110)
     print(f"wrote {args.out}")
     if args.json:
-        Path(args.json).write_text(json.dumps(data))
+        write_json(args.json, data, indent=None)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,6 @@ weights), so ``reward_per_gait_cycle`` compares like with like. The metrics are 
 from __future__ import annotations
 
 import argparse
-import json
 import multiprocessing
 import os
 from collections.abc import Callable, Sequence
@@ -51,7 +50,6 @@ from acl_env.evaluation import (
     Policy,
     constant_cadence_policy,
     format_table,
-    jsonable,
     mean_ci95,
     run_episode,
     summarize,
@@ -65,6 +63,7 @@ from acl_env.training.policy import (
     load_policy,
     read_policy_folder,
 )
+from acl_env.training.runs import write_json
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_POLICY = REPO_ROOT / "train" / "policies" / "acl_climb_ppo"
@@ -503,7 +502,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     for note in notes:
         print(note)
     if args.json:
-        args.json.write_text(json.dumps(jsonable(document), indent=2) + "\n")
+        write_json(args.json, document)
     if args.plot:
         plot_heights(results, args.plot)
     if args.video:

@@ -12,6 +12,8 @@ from typing import Any
 
 import yaml
 
+from acl_env.evaluation import jsonable
+
 MODEL_FILE = "model.zip"
 VECNORMALIZE_FILE = "vecnormalize.pkl"
 CONFIG_FILE = "config.yml"
@@ -80,9 +82,11 @@ def atomic_write(path: str | Path, data: bytes | str) -> None:
         raise
 
 
-def write_json(path: str | Path, document: Any) -> None:
-    """``json.dumps`` (indented) written atomically."""
-    atomic_write(path, json.dumps(document, indent=2) + "\n")
+def write_json(path: str | Path, document: Any, indent: int | None = 2) -> None:
+    """``document`` as strict JSON (numpy values as numbers, NaN and inf as null; see
+    :func:`acl_env.evaluation.jsonable`), written atomically: the one writer of every JSON
+    record and figure file the package and its scripts produce."""
+    atomic_write(path, json.dumps(jsonable(document), indent=indent) + "\n")
 
 
 def read_json(path: str | Path) -> Any:

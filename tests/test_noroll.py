@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import gymnasium as gym
 import numpy as np
 import pytest
+import yaml
 from gymnasium.utils.env_checker import check_env
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, NOROLL_KWARGS
 from acl_env.evaluation import run_episode, summarize, zero_policy
+
+TUNED_GAITS = Path(__file__).resolve().parents[1] / "train" / "configs" / "tuned_gaits.yml"
 
 SHORT = {"steps_per_cycle": 40, "cycles_per_episode": 2}  # 40 keyframes: ~9 deg of roll per step
 
@@ -161,3 +166,13 @@ def test_a_copy_continues_the_roll_measure() -> None:
     for _ in range(5):
         info_a, info_b = env.step(np.zeros(20))[-1], clone.step(np.zeros(20))[-1]
         assert info_a == info_b and info_a["roll_span_deg"] > 0.0
+
+
+def test_registered_gait_is_the_tuners_noroll_entry() -> None:
+    """NOROLL_KWARGS copies the tuner's "acl_noroll" gait (the package does not read train/): the
+    env's zero action and evaluation's tuned open loop must be the same gait and reward."""
+    tuned = yaml.safe_load(TUNED_GAITS.read_text())["acl_noroll"]
+    assert tuned["env_id"] == ACL_CLIMB_NOROLL_ID
+    assert NOROLL_KWARGS["squeeze"] == tuned["env_kwargs"]["squeeze"]
+    assert NOROLL_KWARGS["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
+    assert NOROLL_KWARGS["reward_weights"] == tuned["reward_weights"]

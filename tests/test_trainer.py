@@ -7,6 +7,7 @@ from inside a rollout or a gradient update, so where they land is exact.
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 import shutil
@@ -443,3 +444,74 @@ def test_write_json_writes_strict_json_atomically(tmp_path: Path) -> None:
     with pytest.raises(TypeError):  # not JSON at all: the old file stays whole
         write_json(path, {"bad": object()})
     assert json.loads(path.read_text())["ratio"] == 1.5
+
+
+# --- warm start: a new run from a trained policy (acl_env/training/warm_start.py) ---------------
+
+
+class AtTrainingStart(BaseCallback):
+    """Remember the policy and normalisation a run starts learning from."""
+
+    def _on_training_start(self) -> None:
+        self.params = policy_params(self.model)
+        self.obs_rms = copy.deepcopy(self.model.get_vec_normalize_env().obs_rms)
+
+    def _on_step(self) -> bool:
+        return True
+
+
+def test_init_from_starts_as_the_trained_policy_with_new_actions_at_zero(
+    complete_run: Path, tmp_path: Path
+) -> None:
+    modulation = ["--env-kwargs", "gait_modulation:{'squeeze':0.003}", "modulation_sections:2"]
+    start = AtTrainingStart()
+    run_dir = run(tiny_argv(tmp_path, 128, "--init-from", str(complete_run), *modulation), start)
+    trained, stats, _ = load(complete_run)
+    source = policy_params(trained)
+    # The default recipe has the cadence action: 20 joints, 2 squeeze sections, cadence.
+    new, old = [*range(20), 22], [*range(20), 20]
+    weight, bias = start.params["action_net.weight"], start.params["action_net.bias"]
+    log_std = start.params["log_std"]
+    assert weight.shape[0] == 23 and source["action_net.weight"].shape[0] == 21
+    assert torch.equal(weight[new], source["action_net.weight"][old])
+    assert torch.equal(bias[new], source["action_net.bias"][old])
+    assert torch.equal(log_std[new], source["log_std"][old])
+    # The squeeze actions start at mean 0 (the gait unchanged) and explore at log_std_init.
+    assert not weight[20:22].any() and not bias[20:22].any()
+    assert torch.equal(log_std[20:22], torch.full((2,), -1.0))
+    for key in source:
+        if key not in ("action_net.weight", "action_net.bias", "log_std"):
+            assert torch.equal(start.params[key], source[key]), key
+    # The statistics carried over; the first reset (2 envs) adds its observations to them.
+    assert start.obs_rms.count == pytest.approx(stats.obs_rms.count + 2)
+    assert np.allclose(start.obs_rms.mean, stats.obs_rms.mean, atol=0.5)
+    record = json.loads((run_dir / "args.json").read_text())
+    assert record["args"]["init_from"] == str(complete_run)
+
+
+INIT_FROM_CASES = [
+    (["--env-kwargs", "privileged_obs:true"], "observes"),  # other observations
+    (["--hyperparams", "normalize:false"], "normalise"),
+    (["--hyperparams", "policy_kwargs:dict(net_arch=[32])"], "policy_kwargs"),
+]
+
+
+@pytest.mark.parametrize(("extra", "named"), INIT_FROM_CASES, ids=[c[1] for c in INIT_FROM_CASES])
+def test_bad_init_from_is_refused_naming_it(
+    extra: list[str],
+    named: str,
+    complete_run: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(tiny_argv(tmp_path, 128, "--init-from", str(complete_run), *extra))
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "--init-from" in err and named in err, err
+
+
+def test_init_from_cannot_resume(complete_run: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(["--resume", str(complete_run), "--init-from", str(complete_run)])
+    assert exit_info.value.code == 2 and "--init-from" in capsys.readouterr().err

@@ -755,6 +755,18 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
                 on_floor = True
         return (total / count if count else 0.0), count > 0, on_floor
 
+    @property
+    def action_names(self) -> tuple[str, ...]:
+        """What each action entry drives, in order: ``joint_<j>`` (the residual of joint ``j``),
+        ``<parameter>_section_<s>`` (gait modulation, section ``s`` from the head), ``cadence``."""
+        names = [f"joint_{j}" for j in range(self.n_joints)]
+        names += [
+            f"{key}_section_{s}" for key in self._modulated for s in range(self.modulation_sections)
+        ]
+        if self.phase_rate_range is not None:
+            names.append("cadence")
+        return tuple(names)
+
     def _get_obs(self) -> np.ndarray:
         data = self.data
         angle = 2.0 * np.pi * self._keyframe / self.steps_per_cycle

@@ -21,6 +21,7 @@ import contextlib
 import functools
 import multiprocessing
 import os
+import pickle
 import signal
 import sys
 import time
@@ -35,7 +36,7 @@ import numpy as np
 import yaml
 
 from acl_env import ACL_CLIMB_ID
-from acl_env.training import cli
+from acl_env.training import cli, warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperparams
 from acl_env.training.config import (
     algo_kwargs,
@@ -44,6 +45,7 @@ from acl_env.training.config import (
     make_worker_env,
     normalize_kwargs,
 )
+from acl_env.training.policy import PolicyFolder, read_policy_folder
 from acl_env.training.runs import (
     ARGS_FILE,
     CHECKPOINT_DIR,
@@ -104,6 +106,12 @@ def make_parser() -> cli.ArgumentParser:
     parser.add_argument("--run-dir", help="parent folder of run folders (default runs)")
     parser.add_argument("--exp-name", help="experiment name in the run folder (default ppo)")
     parser.add_argument("--resume", metavar="RUN_DIR", help="continue this run")
+    parser.add_argument(
+        "--init-from",
+        metavar="POLICY_DIR",
+        help="new run whose policy starts as this trained one (policy or run folder): its "
+        "weights and normalisation, its actions matched by name, new actions at mean 0",
+    )
     for option, what in (("--hyperparams", "PPO / zoo"), ("--env-kwargs", "env")):
         parser.add_argument(
             option,
@@ -166,6 +174,8 @@ class Plan:
     args: dict[str, Any]
     resume_model: Path | None = None
     resume_vecnormalize: Path | None = None
+    init_from: PolicyFolder | None = None  # --init-from: the trained policy to start from
+    init_actions: list[tuple[int, int]] = field(default_factory=list)  # (new, trained) actions
     history: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -249,6 +259,8 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
     settings = dict(DEFAULT_SETTINGS)
     hyperparam_overrides = cli.pairs_to_dict("--hyperparams", args.hyperparams)
     env_kwarg_overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+    if args.resume and args.init_from:
+        raise _bad("--init-from", "a resumed run continues its own policy; start a new run")
     if args.resume:
         given = [f"--{name.replace('_', '-')}" for name in RECIPE_OPTIONS if getattr(args, name)]
         if given:
@@ -309,8 +321,11 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
     except ConfigError as error:
         option = "--env" if str(error).startswith("unknown env id") else "--env-kwargs"
         raise _bad(option if not args.resume else "--resume", str(error)) from None
+    init_from, init_actions = None, []
     try:
-        _check_policy_kwargs(probe, hyperparams)
+        policy = _check_policy_kwargs(probe, hyperparams)
+        if args.init_from:
+            init_from, init_actions = _check_init_from(args.init_from, probe, hyperparams, policy)
     finally:
         probe.close()
     _check_device(str(settings["device"]))
@@ -347,19 +362,68 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         args={k: v for k, v in vars(args).items()},
         resume_model=model_path,
         resume_vecnormalize=vecnorm_path,
+        init_from=init_from,
+        init_actions=init_actions,
         history=history,
     )
 
 
-def _check_policy_kwargs(probe: Any, hyperparams: dict[str, Any]) -> None:
-    """Build the policy network once on the env's spaces: unknown or bad ``policy_kwargs`` fail
-    here, before any worker starts."""
+def _check_init_from(
+    path: str, probe: Any, hyperparams: dict[str, Any], policy: Any
+) -> tuple[PolicyFolder, list[tuple[int, int]]]:
+    """The trained policy of ``--init-from`` and the actions it shares with the new env, checked:
+    same observation, same normalisation, the same network (``policy``, the new run's) but for
+    the action entries, at least one shared action (warm_start.py)."""
+    from stable_baselines3 import PPO
+
+    try:
+        folder = read_policy_folder(path)
+    except ValueError as error:
+        raise _bad("--init-from", str(error)) from None
+    try:
+        source = check_env_kwargs(folder.env_id, folder.env_kwargs)
+    except ConfigError as error:
+        raise _bad("--init-from", f"its env does not build here ({error})") from None
+    try:
+        if source.observation_space.shape != probe.observation_space.shape:
+            raise _bad(
+                "--init-from",
+                f"the trained policy observes {source.observation_space.shape}, the new env "
+                f"{probe.observation_space.shape}",
+            )
+        shared = warm_start.action_map(source.unwrapped.action_names, probe.unwrapped.action_names)
+    finally:
+        source.close()
+    try:
+        trained = PPO.load(folder.model, device="cpu")
+    except Exception as error:  # a zip that is not an SB3 model fails in many ways
+        raise _bad("--init-from", f"{folder.model} is not a PPO model ({error})") from None
+    try:
+        warm_start.check_compatible(trained.policy.state_dict(), policy.state_dict(), shared)
+    except ValueError as error:
+        raise _bad("--init-from", str(error)) from None
+    if (folder.vecnormalize is not None) != (normalize_kwargs(hyperparams) is not None):
+        raise _bad(
+            "--init-from",
+            "the trained policy and the new config must both normalise observations or neither",
+        )
+    return folder, shared
+
+
+def _check_policy_kwargs(probe: Any, hyperparams: dict[str, Any]) -> Any:
+    """Build the policy network once on the env's spaces and return it: unknown or bad
+    ``policy_kwargs`` fail here, before any worker starts."""
     from stable_baselines3.common.policies import ActorCriticPolicy
 
-    policy_kwargs = algo_kwargs(hyperparams).get("policy_kwargs") or {}
+    kwargs = algo_kwargs(hyperparams)
+    policy_kwargs = kwargs.get("policy_kwargs") or {}
     try:
-        ActorCriticPolicy(
-            probe.observation_space, probe.action_space, lambda _: 1e-4, **policy_kwargs
+        return ActorCriticPolicy(
+            probe.observation_space,
+            probe.action_space,
+            lambda _: 1e-4,
+            use_sde=bool(kwargs.get("use_sde", False)),
+            **policy_kwargs,
         )
     except (TypeError, ValueError, AssertionError) as error:
         raise _bad("--hyperparams", f"policy_kwargs refused by the policy: {error}") from None
@@ -561,6 +625,25 @@ def _previous_segments(history: dict[str, Any]) -> list[dict[str, Any]]:
     return segments
 
 
+def _warm_start(model: Any, env: Any, folder: PolicyFolder, shared: list[tuple[int, int]]) -> None:
+    """Start ``model`` (and ``env``'s normalisation) as the trained policy in ``folder``."""
+    from stable_baselines3 import PPO
+
+    trained = PPO.load(folder.model, device=model.device)
+    try:
+        state = warm_start.transfer(trained.policy.state_dict(), model.policy.state_dict(), shared)
+    except ValueError as error:
+        raise _bad("--init-from", str(error)) from None
+    model.policy.load_state_dict(state)
+    if folder.vecnormalize is not None:
+        with open(folder.vecnormalize, "rb") as f:  # the statistics, detached from any env
+            warm_start.copy_normalization(pickle.load(f), env)
+    print(
+        f"warm start from {folder.model}: {len(shared)} of {model.action_space.shape[0]} "
+        "actions carried over"
+    )
+
+
 def run_segment(
     plan: Plan,
     extra_callbacks: Sequence[Any] = (),
@@ -629,6 +712,8 @@ def run_segment(
                 verbose=verbose,
                 **algo_kwargs(plan.hyperparams),
             )
+            if plan.init_from is not None:
+                _warm_start(model, env, plan.init_from, plan.init_actions)
         model.policy.forward = timer.wrap("policy_inference", model.policy.forward)
         config_callbacks = callbacks_from_config(plan.hyperparams.get("callback"))
     except BaseException:

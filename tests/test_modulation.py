@@ -144,3 +144,22 @@ def test_modulated_env_pickles_mid_episode() -> None:
 def test_bad_modulation_raises_naming_it(kwargs: dict, name: str) -> None:
     with pytest.raises((TypeError, ValueError), match=name):
         make(**kwargs)
+
+
+def test_action_names_follow_the_action_layout() -> None:
+    env = gym.make(
+        ACL_CLIMB_ID,
+        gait_modulation={"amp_pitch": 0.002, "squeeze": 0.001},
+        modulation_sections=3,
+        phase_rate_range=(0.5, 1.5),
+    )
+    names = env.unwrapped.action_names
+    assert len(names) == env.action_space.shape[0] == 20 + 2 * 3 + 1
+    assert names[:20] == tuple(f"joint_{j}" for j in range(20))
+    # Parameter-major, in the order given, then the cadence last (the env's _rate_index).
+    assert names[20:26] == (
+        *(f"amp_pitch_section_{s}" for s in range(3)),
+        *(f"squeeze_section_{s}" for s in range(3)),
+    )
+    assert names[env.unwrapped._rate_index] == names[-1] == "cadence"
+    assert gym.make(ACL_CLIMB_ID).unwrapped.action_names == names[:20]

@@ -132,6 +132,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     functions between the sections' centres), and the joint targets change as the gait's own
     Eq. 1-5 tables with that offset would (``envs/modulation.py``; docs/residual_rl.md#gait-
     modulation): a grip that can tighten where and when it is needed.
+    ``env.unwrapped.action_names`` names every entry (``joint_3``, ``squeeze_section_1``,
+    ``cadence``); ``acl-train --init-from`` matches a trained policy's actions by these names.
 
     ## Observation Space
     What the robot senses (float64, ``n = n_joints``):

@@ -504,11 +504,14 @@ def test_bad_init_from_is_refused_naming_it(
     tmp_path: Path,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
+    """Exit status 2, one line naming --init-from and what is wrong, nothing written."""
+    run_root = tmp_path / "runs"
     with pytest.raises(SystemExit) as exit_info:
-        trainer.main(tiny_argv(tmp_path, 128, "--init-from", str(complete_run), *extra))
+        trainer.main(tiny_argv(run_root, 128, "--init-from", str(complete_run), *extra))
     assert exit_info.value.code == 2
-    err = capsys.readouterr().err.strip().splitlines()[-1]
-    assert "--init-from" in err and named in err, err
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--init-from" in err and named in err, err
+    assert not run_root.exists()
 
 
 def test_init_from_cannot_resume(complete_run: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -260,15 +260,16 @@ def tuned_gaits_file(path: Path, weights: dict[str, float]) -> Path:
 
 
 def test_evaluation_writes_every_metric_and_controller(policy_folder: Path, tmp_path: Path) -> None:
-    """policy, open loop (also at the policy's mean cadence), rolling helix and the tuned gait:
-    every metric, finite where defined; the training reward weights for every controller; the
-    same-cadence open loop at the policy's mean phase rate."""
+    """policy, open loop, rolling helix and the tuned gait, and (the policy sets the cadence on
+    the default gait) the default and the tuned gait at the policy's mean phase rate: every
+    metric, finite where defined; the training reward weights for every controller."""
     out = tmp_path / "eval.json"
     tuned = tuned_gaits_file(tmp_path / "tuned.yml", {"climb": 1.0, "slip": 2.0})
     argv = ["--policy", str(policy_folder), "--episodes", "2", "--json", str(out), *QUIET]
     plot = ["--plot", str(tmp_path / "eval.png")]
     document = evaluate.main([*argv, "--tuned-gaits", str(tuned), *plot])
-    assert json.loads(out.read_text())["controllers"].keys() == FIVE
+    six = FIVE | {"open_loop_tuned_same_cadence"}
+    assert json.loads(out.read_text())["controllers"].keys() == six
     assert (tmp_path / "eval.png").stat().st_size > 0
     summaries = document["controllers"]
     for name, summary in summaries.items():
@@ -282,6 +283,7 @@ def test_evaluation_writes_every_metric_and_controller(policy_folder: Path, tmp_
     assert document["env_kwargs"]["open_loop_tuned"]["squeeze"] == 0.004
     rate = summaries["policy"]["mean_phase_rate"]
     assert summaries["open_loop_acl_same_cadence"]["mean_phase_rate"] == pytest.approx(rate)
+    assert summaries["open_loop_tuned_same_cadence"]["mean_phase_rate"] == pytest.approx(rate)
     assert summaries["open_loop_acl"]["mean_phase_rate"] == 1.0
     table = evaluation.format_table(summaries, markdown=True).splitlines()
     assert table[0] == "| metric | " + " | ".join(summaries) + " |"
@@ -460,6 +462,45 @@ def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits
     assert "gait_modulation" not in by_name["open_loop_tuned"].env_kwargs
     env = gymnasium.make(by_name["open_loop_acl"].env_id, **by_name["open_loop_acl"].env_kwargs)
     assert env.unwrapped.squeeze == 0.008  # the default gait's
+
+
+def test_policy_setting_the_cadence_on_another_gait_meets_the_tuned_gait_at_its_cadence(
+    tmp_path: Path,
+) -> None:
+    """The best open loop at the same cadence: a cadence policy on a gait other than the tuned
+    one is also judged against the tuned gait at the policy's rate, run after the policy."""
+    from acl_env.training.evaluate import TUNED_SAME_CADENCE, Controller, build_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    weights = {"climb": 1.0, "slip": 2.0}
+    other = {**SHORT, "squeeze": 0.001, "phase_rate_range": [0.5, 1.5], "reward_weights": weights}
+    folder = PolicyFolder(tmp_path, ACL_CLIMB_ID, {"env_kwargs": other}, tmp_path / "m.zip", None)
+    tuned = tuned_gaits_file(tmp_path / "tuned.yml", weights)
+    controllers, _ = build_controllers(folder, {}, None, tuned)
+    by_name = {c.name: c for c in controllers}
+    tuned_here = by_name[TUNED_SAME_CADENCE]
+    assert tuned_here.env_kwargs == by_name["open_loop_tuned"].env_kwargs
+    assert tuned_here.env_kwargs["squeeze"] == 0.004 and tuned_here.phase_rate is not None
+    assert by_name["open_loop_acl_same_cadence"].env_kwargs["squeeze"] == 0.001
+    # Run at the policy's mean rate (a stand-in policy: the open loop at 1.25 keyframes/step).
+    stand_in = Controller("policy", ACL_CLIMB_ID, other, phase_rate=1.25)
+    results = evaluate.evaluate([stand_in, tuned_here], [0], workers=1, progress=False)
+    (policy,), (tuned_episode,) = results["policy"], results[TUNED_SAME_CADENCE]
+    assert tuned_episode.keyframes / tuned_episode.steps == pytest.approx(
+        policy.keyframes / policy.steps
+    )
+    # On the tuned gait itself the two same-cadence open loops would be one: not repeated.
+    same_gait = {
+        **other,
+        "squeeze": 0.004,
+        "gait_kwargs": {"amp_pitch": 0.02, "rolls_per_cycle": 1},
+    }
+    folder = PolicyFolder(
+        tmp_path, ACL_CLIMB_ID, {"env_kwargs": same_gait}, tmp_path / "m.zip", None
+    )
+    controllers, notes = build_controllers(folder, {}, None, tuned)
+    assert TUNED_SAME_CADENCE not in {c.name for c in controllers}
+    assert any(n.startswith(TUNED_SAME_CADENCE) for n in notes)
 
 
 def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:

@@ -10,6 +10,9 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
   the policy's own base gait (with any ``gait_kwargs`` or ``squeeze`` it was trained on) played
   open loop at the policy's mean phase rate, so what the policy adds beyond running its gait
   faster shows;
+* ``open_loop_tuned_same_cadence``: only when the policy sets the cadence on a gait other than the
+  tuned one: the tuned gait at the policy's mean phase rate, the best open loop at the same
+  cadence (for a policy on the tuned gait this is ``open_loop_acl_same_cadence`` already);
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
@@ -77,6 +80,8 @@ GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze")
 # Kwargs that only shape the policy's action: the open loops play a zero action without them.
 POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections")
 SAME_CADENCE = "open_loop_acl_same_cadence"
+TUNED_SAME_CADENCE = "open_loop_tuned_same_cadence"
+AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE)  # run after the policy, at its rate
 
 
 @dataclass(frozen=True)
@@ -163,12 +168,12 @@ def evaluate(
     progress: bool = True,
     pool: Executor | None = None,
 ) -> dict[str, list[Episode]]:
-    """Run the controllers; the same-cadence open loop runs last, at the policy's mean rate.
+    """Run the controllers; the same-cadence open loops run last, at the policy's mean rate.
 
     Episodes run in ``pool`` when given (reused across calls), else in ``workers`` processes.
     """
-    first = [c for c in controllers if c.name != SAME_CADENCE]
-    later = [c for c in controllers if c.name == SAME_CADENCE]
+    first = [c for c in controllers if c.name not in AT_POLICY_CADENCE]
+    later = [c for c in controllers if c.name in AT_POLICY_CADENCE]
     own_pool = pool is None
     if own_pool:
         pool = make_pool(workers)
@@ -277,6 +282,11 @@ def build_controllers(
         kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
         controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
         notes.append(f"open_loop_tuned: {note}")
+        if any(c.name == SAME_CADENCE for c in controllers):
+            if all(open_loop.get(k) == v for k, v in tuned_kwargs.items()):
+                notes.append(f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one")
+            else:  # the best open loop at the policy's cadence
+                controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))
     return controllers, notes
 
 
@@ -496,7 +506,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         "notes": notes,
         "ci": CI_NOTE,
     }
-    if SAME_CADENCE in results:
+    if set(AT_POLICY_CADENCE) & set(results):
         document["same_cadence_phase_rate"] = summaries["policy"]["mean_phase_rate"]
     print(format_table(summaries, markdown=args.markdown))
     for note in notes:

@@ -138,8 +138,17 @@ def test_rerun_resumes_the_study_and_other_settings_are_refused(
     evaluation["controllers"]["policy"]["climb_per_gait_cycle_m"] = {"mean": 0.21}
     (tmp_path / "eval.json").write_text(json.dumps(evaluation))
     (tmp_path / "frontier_acl.png").unlink()
+    point = str(tmp_path / "eval.json")
     tuning.main(
-        tiny_args(tmp_path, "--n-trials", "5", "--policy-point", str(tmp_path / "eval.json"))
+        tiny_args(
+            tmp_path,
+            "--n-trials",
+            "5",
+            "--policy-point",
+            point,
+            "--policy-point",
+            f"{point}:policy=same policy, labelled",
+        )
     )
     assert len(load(tmp_path).trials) == 5
     assert (tmp_path / "frontier_acl.png").is_file()
@@ -150,6 +159,24 @@ def test_rerun_resumes_the_study_and_other_settings_are_refused(
     assert exc.value.code == 2
     assert "--study-name" in err and "reward_weights" in err
     assert len(load(tmp_path).trials) == 5
+
+
+def test_policy_point_reads_energy_climb_and_slip(tmp_path: Path) -> None:
+    summary = {"energy_per_m": {"mean": 700.0}, "climb_per_gait_cycle_m": {"mean": 0.2}}
+    path = tmp_path / "eval.json"
+    path.write_text(json.dumps({"controllers": {"policy": summary}}))
+    point = tuning.policy_point(path)
+    assert point["energy_per_m"] == 700.0 and point["climb_per_gait_cycle_m"] == 0.2
+    assert math.isnan(point["slip_per_m"])  # older JSONs: drawn on the climb panel only
+    summary["slip_per_m"] = {"mean": 0.16}
+    path.write_text(json.dumps({"controllers": {"tuned": summary}}))
+    assert tuning.policy_point(path, "tuned")["slip_per_m"] == 0.16
+
+
+def test_pareto_front_of_a_metric_where_less_is_better() -> None:
+    # Slip: the 900 J/m point slips least; the 700 J/m one is beaten by 600 J/m on both.
+    slip = np.array([[700.0, 0.20], [600.0, 0.18], [900.0, 0.15], [1000.0, 0.25]])
+    assert tuning.pareto_front(slip, maximize=False).tolist() == [[600.0, 0.18], [900.0, 0.15]]
 
 
 def test_a_gait_that_falls_is_disqualified(
@@ -311,8 +338,11 @@ def test_validation_passes_over_a_lucky_gait_that_falls_on_new_seeds(tmp_path: P
     assert entry["default_gait_validation"]["metrics"] == entry["validation"]["metrics"]
 
 
-def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path) -> None:
-    args = tiny_args(tmp_path, "--n-trials", "1000")
+@pytest.mark.parametrize("n_jobs", ["1", "2"])
+def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path, n_jobs: str) -> None:
+    """SIGTERM (or Ctrl-C) stops at a safe point: exit status 130, no trial left RUNNING (the
+    interrupted ones are failed, so a rerun redoes them at once), nothing written."""
+    args = tiny_args(tmp_path, "--n-trials", "1000", "--n-jobs", n_jobs)
     proc = subprocess.Popen(
         [sys.executable, "train/tune_gait.py", *args],
         cwd=ROOT,
@@ -337,6 +367,7 @@ def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path) -> None:
     assert proc.returncode == 130, err
     assert "interrupted" in err.splitlines()[-1] and "resume" in err.splitlines()[-1]
     assert not (tmp_path / "tuned.yml").exists()  # nothing written on an interrupt
+    assert not load(tmp_path).get_trials(states=(optuna.trial.TrialState.RUNNING,))
     finished = len(load(tmp_path).get_trials(states=tuning.FINISHED))
     assert 2 <= finished < 1000
     args[args.index("1000")] = str(finished + 1)

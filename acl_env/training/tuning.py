@@ -342,7 +342,7 @@ def rollout(env: gymnasium.Env, seeds: Sequence[int]) -> list[dict[str, float]]:
     roll (either disqualifies the gait anyway)."""
     episodes = []
     for seed in seeds:
-        episode = run_episode(env, zero_policy(env), seed)
+        episode = run_episode(env, zero_policy(env), seed, _stop_point)
         episodes.append({**episode.metrics(), "rolled": float(episode.rolled)})
         if episode.fell or episode.rolled:
             break
@@ -436,23 +436,47 @@ def run_worker(
     )
     objective = make_objective(settings)
     for _ in range(quota):
+        _stop_point()
         if _counted(study) >= n_trials:
             break
         study.optimize(objective, n_trials=1, callbacks=list(callbacks))
 
 
 def _worker_process(*args: Any, **kwargs: Any) -> None:
-    """:func:`run_worker` in a spawned process: Ctrl-C (sent to the whole process group) ends it
-    quietly; Optuna has marked its running trial failed, and a rerun redoes it."""
+    """:func:`run_worker` in a spawned process: Ctrl-C (sent to the whole process group) or the
+    parent's SIGTERM ends it quietly at the next safe point; Optuna has marked its running trial
+    failed, and a rerun redoes it."""
+    _catch_stop_signals()
     try:
         run_worker(*args, **kwargs)
     except KeyboardInterrupt:
         pass
 
 
-def _interrupt(signum: int, frame: Any) -> None:
-    """SIGTERM handler: stop as Ctrl-C does."""
-    raise KeyboardInterrupt
+# Ctrl-C and SIGTERM are taken only at safe points (:func:`_stop_point`): between env steps of a
+# trial, which Optuna then records as failed (a rerun redoes it), or between trials. Raised
+# anywhere else, the interrupt could land while a trial's result is being written, leaving it
+# RUNNING in the storage (a rerun would count it as another process's and skip it until the
+# heartbeat's grace period fails it) or a half-written transaction.
+_stop_requested = False
+
+
+def _request_stop(signum: int, frame: Any) -> None:
+    global _stop_requested
+    _stop_requested = True
+
+
+def _catch_stop_signals() -> dict[int, Any]:
+    """Route SIGINT and SIGTERM to the stop request; return the previous handlers."""
+    global _stop_requested
+    _stop_requested = False
+    return {sig: signal.signal(sig, _request_stop) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+
+def _stop_point(*_: Any) -> None:
+    """Raise ``KeyboardInterrupt`` here if a stop was requested (also a run_episode callback)."""
+    if _stop_requested:
+        raise KeyboardInterrupt
 
 
 def prepare_study(
@@ -539,6 +563,7 @@ def run_study(
                 worker.start()
             while any(worker.is_alive() for worker in workers):
                 time.sleep(1.0)
+                _stop_point()
                 finished = len(study.get_trials(deepcopy=False, states=FINISHED))
                 bar.update(max(0, finished - bar.n))
                 bar.set_postfix_str(_best_text(study))
@@ -547,8 +572,11 @@ def run_study(
                 raise RuntimeError(f"tuning workers exited with status {failed}")
     except KeyboardInterrupt:
         for worker in workers:
-            worker.terminate()  # a trial it was running stays RUNNING until the heartbeat fails it
-            worker.join()
+            worker.terminate()  # SIGTERM: it stops at its next safe point, its trial failed
+        for worker in workers:
+            worker.join(timeout=60.0)
+            if worker.is_alive():  # stuck: its trial stays RUNNING until the heartbeat fails it
+                worker.kill()
         raise
     finally:
         bar.close()
@@ -710,23 +738,36 @@ def read_tuned_gaits(path: str | Path = DEFAULT_OUTPUT) -> dict[str, dict[str, A
         return yaml.safe_load(f) or {}
 
 
-def policy_point(path: str | Path, controller: str = "policy") -> tuple[float, float]:
-    """``(energy_per_m, climb_per_gait_cycle_m)`` means of one controller of an evaluation JSON."""
+POINT_METRICS = ("energy_per_m", "climb_per_gait_cycle_m", "slip_per_m")
+# The frontier figure's panels: y metric, axis label, whether more is better (x: energy, less).
+FRONTIER_PANELS = (
+    ("climb_per_gait_cycle_m", "climb per gait cycle (m)", True),
+    ("slip_per_m", "slip per metre climbed", False),
+)
+
+
+def policy_point(path: str | Path, controller: str = "policy") -> dict[str, float]:
+    """Energy, climb and slip means (:data:`POINT_METRICS`) of one controller of an evaluation
+    JSON; a metric the JSON lacks is NaN (not drawn)."""
     import json
 
     summary = json.loads(Path(path).read_text())["controllers"][controller]
-    return summary["energy_per_m"]["mean"], summary["climb_per_gait_cycle_m"]["mean"]
+    point = {m: float(summary[m]["mean"]) if m in summary else math.nan for m in POINT_METRICS}
+    if not math.isfinite(point["energy_per_m"]):
+        raise KeyError(f"{controller} has no energy_per_m")
+    return point
 
 
-def pareto_front(points: np.ndarray) -> np.ndarray:
-    """Points ``(energy, climb)`` that no other point beats on both (less energy, more climb),
-    sorted by energy."""
+def pareto_front(points: np.ndarray, maximize: bool = True) -> np.ndarray:
+    """Points ``(energy, y)`` that no other point beats on both (less energy, more ``y``, or less
+    with ``maximize=False``), sorted by energy."""
+    sign = 1.0 if maximize else -1.0
     order = np.argsort(points[:, 0], kind="stable")
-    front, best_climb = [], -np.inf
+    front, best = [], -np.inf
     for i in order:
-        if points[i, 1] > best_climb:
+        if sign * points[i, 1] > best:
             front.append(i)
-            best_climb = points[i, 1]
+            best = sign * points[i, 1]
     return points[front]
 
 
@@ -736,10 +777,12 @@ def plot_frontier(
     path: str | Path,
     title: str,
     chosen: optuna.trial.FrozenTrial | None = None,
-    policy: tuple[float, float] | None = None,
+    policies: Sequence[tuple[str, Mapping[str, float]]] = (),
     others: Sequence[optuna.Study] = (),
 ) -> None:
-    """Climb per gait cycle against energy per metre of every trial: the open-loop frontier.
+    """Every trial's climb per gait cycle (left) and slip per metre (right) against its energy
+    per metre: the open-loop frontiers, with labelled policy points
+    (:func:`policy_point`) where a learned controller lands.
 
     ``others``: studies (of other objectives or ranges) whose qualified gaits join the frontier,
     drawn in grey.
@@ -751,95 +794,102 @@ def plot_frontier(
     import matplotlib.ticker
 
     trials = study.get_trials(deepcopy=False, states=FINISHED)
-
-    def point(t: optuna.trial.FrozenTrial) -> tuple[float, float]:
-        return t.user_attrs.get("energy_per_m", math.nan), t.user_attrs.get(
-            "climb_per_gait_cycle_m", math.nan
-        )
-
-    def finite(ts: list[optuna.trial.FrozenTrial]) -> np.ndarray:
-        pts = np.array([point(t) for t in ts], dtype=float).reshape(-1, 2)
-        return pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 0] > 0)]
-
     complete = [t for t in trials if t.state == optuna.trial.TrialState.COMPLETE]
     measured_out = [
         t for t in trials if t.user_attrs.get("disqualified") in ("fell", "rolled", "touched arc")
     ]
-    fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
-    ok = finite(complete)
-    values = [t.value for t in complete if np.all(np.isfinite(point(t))) and point(t)[0] > 0]
-    if len(ok):
-        # Colours span the better 90 % of the gaits: one bad outlier would wash out the rest.
-        low, high = np.percentile(values, [10.0, 100.0])
-        if settings.direction == "minimize":
-            low, high = np.percentile(values, [0.0, 90.0])
-        sc = ax.scatter(
-            ok[:, 0], ok[:, 1], c=values, s=14, cmap="viridis", vmin=low, vmax=high, zorder=2
-        )
-        extend = "min" if settings.direction == "maximize" else "max"
-        fig.colorbar(sc, ax=ax, label=settings.objective, extend=extend)
-    extra = finite(
-        [
-            t
-            for other in others
-            for t in other.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,))
-        ]
-    )
-    if len(extra):
-        names = ", ".join(other.study_name for other in others)
-        ax.scatter(
-            extra[:, 0],
-            extra[:, 1],
-            s=14,
-            facecolors="none",
-            edgecolors="0.55",
-            lw=0.7,
-            label=f"studies {names}",
-            zorder=1,
-        )
-    if len(ok) or len(extra):
-        front = pareto_front(np.vstack([ok, extra]))
-        ax.step(front[:, 0], front[:, 1], where="post", color="0.3", lw=1, label="frontier")
-    out = finite(measured_out)
-    if len(out):
-        label = "disqualified: fell or rolled"
-        ax.scatter(out[:, 0], out[:, 1], marker="x", s=14, color="0.6", label=label, zorder=1)
+    extra_trials = [
+        t
+        for other in others
+        for t in other.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,))
+    ]
     default = next((t for t in complete if t.user_attrs.get("default_gait")), None)
-    if default is not None:
-        ax.scatter(*point(default), marker="s", s=60, color="k", label="default gait", zorder=3)
-    if chosen is not None:
-        ax.scatter(*point(chosen), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
-    if policy is not None:
-        ax.scatter(*policy, marker="^", s=90, color="tab:orange", label="policy", zorder=4)
-    # Axes around the better gaits (the frontier's side): far-off bad gaits only squash them.
-    marked = [point(t) for t in (default, chosen) if t is not None] + ([policy] if policy else [])
-    shown = np.vstack([ok, extra, out, np.array(marked, dtype=float).reshape(-1, 2)])
-    shown = shown[np.all(np.isfinite(shown), axis=1) & (shown[:, 0] > 0)]
-    beyond = 0
-    if len(ok) >= 10:
-        x_hi = max([np.percentile(ok[:, 0], 90) * 1.3, *(1.1 * m[0] for m in marked)])
-        y_lo = min([np.percentile(ok[:, 1], 10), *(m[1] for m in marked)])
-        beyond = int(np.sum((shown[:, 0] > x_hi) | (shown[:, 1] < y_lo)))
-        x_lo = shown[:, 0].min() / 1.1
-        y_hi = shown[:, 1].max()
-        pad = 0.05 * (y_hi - y_lo)
-        ax.set_xlim(x_lo, x_hi)
-        ax.set_ylim(y_lo - pad, y_hi + pad)
-    hidden = len(trials) - len(ok) - len(out)
-    clip = f"{settings.max_clipped:.0%}"
-    note = f"not shown: {hidden} gaits that did not climb\nor clipped over {clip} of the joints"
-    if beyond:
-        note += f";\n{beyond} beyond the axes"
-    ax.plot([], [], " ", label=note)  # in the legend, which finds a place clear of the points
-    lo, hi = ax.get_xlim()
-    if hi / lo > 10.0:  # a log axis only where the energies span more than a decade
-        ax.set_xscale("log")
-        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.set_xlabel("energy per metre climbed (J/m)")
-    ax.set_ylabel("climb per gait cycle (m)")
-    ax.set_title(title, fontsize=9)
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="best")
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
+    colours = ("tab:orange", "tab:pink", "tab:cyan", "tab:brown")
+    for ax, (metric, label, maximize) in zip(axes, FRONTIER_PANELS, strict=True):
+
+        def point(t: optuna.trial.FrozenTrial, metric: str = metric) -> tuple[float, float]:
+            return t.user_attrs.get("energy_per_m", math.nan), t.user_attrs.get(metric, math.nan)
+
+        def finite(ts: list[optuna.trial.FrozenTrial]) -> np.ndarray:
+            pts = np.array([point(t) for t in ts], dtype=float).reshape(-1, 2)
+            return pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 0] > 0)]
+
+        ok = finite(complete)
+        values = [t.value for t in complete if np.all(np.isfinite(point(t))) and point(t)[0] > 0]
+        if len(ok):
+            # Colours span the better 90 % of the gaits: one bad outlier would wash out the rest.
+            low, high = np.percentile(values, [10.0, 100.0])
+            if settings.direction == "minimize":
+                low, high = np.percentile(values, [0.0, 90.0])
+            sc = ax.scatter(
+                ok[:, 0], ok[:, 1], c=values, s=14, cmap="viridis", vmin=low, vmax=high, zorder=2
+            )
+            if ax is axes[-1]:
+                extend = "min" if settings.direction == "maximize" else "max"
+                fig.colorbar(sc, ax=ax, label=settings.objective, extend=extend)
+        extra = finite(extra_trials)
+        if len(extra):
+            names = ", ".join(other.study_name for other in others)
+            ax.scatter(
+                extra[:, 0],
+                extra[:, 1],
+                s=14,
+                facecolors="none",
+                edgecolors="0.55",
+                lw=0.7,
+                label=f"studies {names}",
+                zorder=1,
+            )
+        if len(ok) or len(extra):
+            front = pareto_front(np.vstack([ok, extra]), maximize)
+            ax.step(front[:, 0], front[:, 1], where="post", color="0.3", lw=1, label="frontier")
+        out = finite(measured_out)
+        if len(out):
+            label_out = "disqualified: fell or rolled"
+            ax.scatter(out[:, 0], out[:, 1], marker="x", s=14, color="0.6", label=label_out)
+        if default is not None:
+            ax.scatter(*point(default), marker="s", s=60, color="k", label="default gait", zorder=3)
+        if chosen is not None:
+            ax.scatter(*point(chosen), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
+        marked = [point(t) for t in (default, chosen) if t is not None]
+        for (name, values_), colour in zip(policies, colours * len(policies), strict=False):
+            xy = (values_["energy_per_m"], values_[metric])
+            if all(math.isfinite(v) for v in xy):
+                ax.scatter(*xy, marker="^", s=90, color=colour, label=name, zorder=5)
+                marked.append(xy)
+        # Axes around the better gaits (the frontier's side): far-off bad gaits only squash them.
+        shown = np.vstack([ok, extra, out, np.array(marked, dtype=float).reshape(-1, 2)])
+        shown = shown[np.all(np.isfinite(shown), axis=1) & (shown[:, 0] > 0)]
+        beyond = 0
+        if len(ok) >= 10:
+            x_hi = max([np.percentile(ok[:, 0], 90) * 1.3, *(1.1 * m[0] for m in marked)])
+            if maximize:
+                y_lo = min([np.percentile(ok[:, 1], 10), *(m[1] for m in marked)])
+                y_hi = shown[:, 1].max()
+                beyond = int(np.sum((shown[:, 0] > x_hi) | (shown[:, 1] < y_lo)))
+            else:
+                y_hi = max([np.percentile(ok[:, 1], 90), *(m[1] for m in marked)])
+                y_lo = shown[:, 1].min()
+                beyond = int(np.sum((shown[:, 0] > x_hi) | (shown[:, 1] > y_hi)))
+            pad = 0.05 * (y_hi - y_lo)
+            ax.set_xlim(shown[:, 0].min() / 1.1, x_hi)
+            ax.set_ylim(y_lo - pad, y_hi + pad)
+        hidden = len(trials) - len(ok) - len(out)
+        clip = f"{settings.max_clipped:.0%}"
+        note = f"not shown: {hidden} gaits that did not climb\nor clipped over {clip} of the joints"
+        if beyond:
+            note += f";\n{beyond} beyond the axes"
+        ax.plot([], [], " ", label=note)  # in the legend, which finds a place clear of the points
+        lo, hi = ax.get_xlim()
+        if hi / lo > 10.0:  # a log axis only where the energies span more than a decade
+            ax.set_xscale("log")
+            ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.set_xlabel("energy per metre climbed (J/m)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7, loc="best")
+    fig.suptitle(title, fontsize=9)
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -913,8 +963,11 @@ def make_parser() -> cli.ArgumentParser:
     parser.add_argument("--plot", default=DEFAULT_PLOT, help="frontier figure ('' for none)")
     parser.add_argument(
         "--policy-point",
-        metavar="EVAL_JSON[:CONTROLLER]",
-        help="mark a controller of an evaluation JSON on the figure (default controller: policy)",
+        action="append",
+        default=[],
+        metavar="EVAL_JSON[:CONTROLLER][=LABEL]",
+        help="mark a controller of an evaluation JSON on the figure (default controller: policy; "
+        "may repeat)",
     )
     parser.add_argument(
         "--also-plot",
@@ -978,14 +1031,15 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     study_name = args.study_name or key
     try:
         settings = settings_from_args(args)
-        policy = None
-        if args.policy_point:
-            path, _, controller = args.policy_point.partition(":")
+        policies = []
+        for given in args.policy_point:
+            spec, _, label = given.partition("=")
+            path, _, controller = spec.partition(":")
             try:
-                policy = policy_point(path, controller or "policy")
-            except (OSError, KeyError, ValueError) as exc:
-                msg = f"cannot read {args.policy_point}: {exc!r}"
-                raise UsageError("--policy-point", msg) from None
+                point = policy_point(path, controller or "policy")
+            except (OSError, KeyError, ValueError, TypeError) as exc:
+                raise UsageError("--policy-point", f"cannot read {given}: {exc!r}") from None
+            policies.append((label or controller or "policy", point))
         prepare_study(settings, args.storage, study_name)  # bad storage fails before any trial
         others = []
         for name in args.also_plot:
@@ -997,7 +1051,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
                 raise UsageError("--also-plot", f"no study {name!r} in {args.storage}") from None
     except UsageError as exc:
         parser.error(str(exc))
-    previous = signal.signal(signal.SIGTERM, _interrupt)
+    previous = _catch_stop_signals()
     try:
         study = run_study(
             settings,
@@ -1016,7 +1070,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         )
         raise SystemExit(130) from None
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
     try:
         chosen, validation = validate(study, settings, args.validate_top, args.validate_seeds)
     except RuntimeError as exc:
@@ -1032,7 +1087,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
             f"{key}: {entry['trials']} open-loop gaits on {settings.env_id}, {len(settings.seeds)}"
             f" seeds each\n{settings.objective} with reward weights {weights}"
         )
-        plot_frontier(study, settings, plot, title, chosen, policy, others)
+        plot_frontier(study, settings, plot, title, chosen, policies, others)
         print(f"frontier figure: {plot}")
     return entry
 

@@ -522,3 +522,13 @@ def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
     assert frames[0].shape[:2] == (48, 128)
     left, right = frames[-1][:, :64], frames[-1][:, 64:]
     assert not np.array_equal(left, right)  # two different gaits
+
+
+def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
+    """Committed evaluation JSONs must not name the folder of the machine that wrote them."""
+    from acl_env.training.evaluate import DEFAULT_POLICY, DEFAULT_TUNED_GAITS, shown_path
+
+    assert shown_path(DEFAULT_POLICY) == "train/policies/acl_climb_ppo"
+    _, note = evaluate.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
+    assert note.startswith("train/configs/tuned_gaits.yml: 'acl'"), note
+    assert shown_path(tmp_path / "policy") == str(tmp_path / "policy")  # outside: as given

@@ -207,6 +207,13 @@ def is_non_rolling(env_id: str, env_kwargs: dict[str, Any]) -> bool:
 TUNED_KEYS = {False: "acl", True: "acl_noroll"}  # tuned_gaits.yml entry per non-rolling flag
 
 
+def shown_path(path: str | Path) -> str:
+    """``path`` as the records show it: relative to the repository when inside it, so that a
+    committed evaluation JSON names no folder of the machine it was made on."""
+    resolved = Path(path).resolve()
+    return str(resolved.relative_to(REPO_ROOT)) if resolved.is_relative_to(REPO_ROOT) else str(path)
+
+
 def tuned_gait(
     path: Path, reward_weights: dict[str, float] | None, non_rolling: bool
 ) -> tuple[tuple[str, dict[str, Any]] | None, str]:
@@ -214,18 +221,19 @@ def tuned_gait(
     written by ``train/tune_gait.py``; entry ``acl`` or ``acl_noroll``), and a note that says
     which, or why there is none (``None``)."""
     key = TUNED_KEYS[non_rolling]
+    shown = shown_path(path)
     if not path.is_file():
-        return None, f"{path} does not exist (run train/tune_gait.py)"
+        return None, f"{shown} does not exist (run train/tune_gait.py)"
     entry = (yaml.safe_load(path.read_text()) or {}).get(key)
     if entry is None:
         flag = " --no-roll" if non_rolling else ""
-        return None, f"{path} has no {key!r} entry (run train/tune_gait.py{flag})"
+        return None, f"{shown} has no {key!r} entry (run train/tune_gait.py{flag})"
     env_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
     if env_id not in gymnasium.registry:
-        return None, f"{path}: {key!r} was tuned on {env_id}, not registered: re-run the tuner"
+        return None, f"{shown}: {key!r} was tuned on {env_id}, not registered: re-run the tuner"
     weights = {**DEFAULT_REWARD_WEIGHTS, **(reward_weights or {})}
     tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
-    note = f"{path}: {key!r}, best of {entry.get('trials', '?')} trials for {entry['objective']}"
+    note = f"{shown}: {key!r}, best of {entry.get('trials', '?')} trials for {entry['objective']}"
     if {k: float(v) for k, v in tuned_for.items()} != {k: float(v) for k, v in weights.items()}:
         note += f" under reward_weights {tuned_for}, NOT the {weights} evaluated here"
     return (env_id, env_kwargs), note
@@ -260,8 +268,11 @@ def build_controllers(
             # without any reshaping of it the policy was trained on.
             acl_id = folder.env_id
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
+    sets_cadence = (
+        folder is not None and env_setting(folder.env_id, open_loop, "phase_rate_range") is not None
+    )
     if folder is not None:
-        if env_setting(folder.env_id, open_loop, "phase_rate_range") is not None:
+        if sets_cadence:
             # The policy's own base gait (reshaped or not) at the policy's cadence: what the
             # policy adds beyond running its gait faster.
             same = Controller(SAME_CADENCE, folder.env_id, open_loop, phase_rate=1.0)
@@ -282,7 +293,7 @@ def build_controllers(
         kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
         controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
         notes.append(f"open_loop_tuned: {note}")
-        if any(c.name == SAME_CADENCE for c in controllers):
+        if sets_cadence:
             if all(open_loop.get(k) == v for k, v in tuned_kwargs.items()):
                 notes.append(f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one")
             else:  # the best open loop at the policy's cadence
@@ -502,11 +513,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         "controllers": summaries,
         "env_ids": {name: by_name[name].env_id for name in results},
         "env_kwargs": {name: by_name[name].env_kwargs for name in results},
-        "policy": None if args.no_policy else str(args.policy),
+        "policy": None if args.no_policy else shown_path(args.policy),
         "notes": notes,
         "ci": CI_NOTE,
     }
-    if set(AT_POLICY_CADENCE) & set(results):
+    if SAME_CADENCE in results:  # present whenever a same-cadence open loop is
         document["same_cadence_phase_rate"] = summaries["policy"]["mean_phase_rate"]
     print(format_table(summaries, markdown=args.markdown))
     for note in notes:

@@ -45,7 +45,7 @@ from acl_env.training.config import (
     make_worker_env,
     normalize_kwargs,
 )
-from acl_env.training.policy import PolicyFolder, read_policy_folder
+from acl_env.training.policy import read_policy_folder
 from acl_env.training.runs import (
     ARGS_FILE,
     CHECKPOINT_DIR,
@@ -174,8 +174,7 @@ class Plan:
     args: dict[str, Any]
     resume_model: Path | None = None
     resume_vecnormalize: Path | None = None
-    init_from: PolicyFolder | None = None  # --init-from: the trained policy to start from
-    init_actions: list[tuple[int, int]] = field(default_factory=list)  # (new, trained) actions
+    init_from: warm_start.TrainedStart | None = None  # --init-from, checked and loaded
     history: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -206,27 +205,30 @@ def _read_run_config(run_dir: Path) -> tuple[str, dict[str, Any]]:
     return str(env_id), dict(hyperparams)
 
 
-def _check_saved_model(model_path: Path, vecnorm_path: Path | None, normalize: bool) -> None:
-    """The saved model is an SB3 zip; the statistics unpickle to VecNormalize when expected."""
-    import pickle
+def _check_saved_model(
+    model_path: Path, vecnorm_path: Path | None, normalize: bool, option: str = "--resume"
+) -> Any:
+    """The saved model is an SB3 zip; the statistics unpickle to VecNormalize when expected
+    (returned; None when not). A bad file is reported as a bad ``option``."""
 
     from stable_baselines3.common.vec_env import VecNormalize
 
     if not zipfile.is_zipfile(model_path) or not {"data", "policy.pth"} <= set(
         zipfile.ZipFile(model_path).namelist()
     ):
-        raise _bad("--resume", f"{model_path} is not a Stable-Baselines3 model (corrupt zip)")
+        raise _bad(option, f"{model_path} is not a Stable-Baselines3 model (corrupt zip)")
     if not normalize:
-        return
+        return None
     if vecnorm_path is None:
-        raise _bad("--resume", f"the config normalises but {model_path.parent} has no statistics")
+        raise _bad(option, f"the config normalises but {model_path.parent} has no statistics")
     try:
         with open(vecnorm_path, "rb") as f:
             loaded = pickle.load(f)
     except Exception as error:  # pickle raises many kinds on garbage
-        raise _bad("--resume", f"{vecnorm_path} is corrupt ({type(error).__name__})") from None
+        raise _bad(option, f"{vecnorm_path} is corrupt ({type(error).__name__})") from None
     if not isinstance(loaded, VecNormalize):
-        raise _bad("--resume", f"{vecnorm_path} holds a {type(loaded).__name__}, not VecNormalize")
+        raise _bad(option, f"{vecnorm_path} holds a {type(loaded).__name__}, not VecNormalize")
+    return loaded
 
 
 def _saved_steps(model_path: Path) -> int:
@@ -321,11 +323,11 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
     except ConfigError as error:
         option = "--env" if str(error).startswith("unknown env id") else "--env-kwargs"
         raise _bad(option if not args.resume else "--resume", str(error)) from None
-    init_from, init_actions = None, []
+    init_from = None
     try:
         policy = _check_policy_kwargs(probe, hyperparams)
         if args.init_from:
-            init_from, init_actions = _check_init_from(args.init_from, probe, hyperparams, policy)
+            init_from = _check_init_from(args.init_from, probe, hyperparams, policy)
     finally:
         probe.close()
     _check_device(str(settings["device"]))
@@ -363,23 +365,29 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         resume_model=model_path,
         resume_vecnormalize=vecnorm_path,
         init_from=init_from,
-        init_actions=init_actions,
         history=history,
     )
 
 
 def _check_init_from(
     path: str, probe: Any, hyperparams: dict[str, Any], policy: Any
-) -> tuple[PolicyFolder, list[tuple[int, int]]]:
-    """The trained policy of ``--init-from`` and the actions it shares with the new env, checked:
-    same observation, same normalisation, the same network (``policy``, the new run's) but for
-    the action entries, at least one shared action (warm_start.py)."""
+) -> warm_start.TrainedStart:
+    """The trained policy of ``--init-from``, loaded and checked against the new run: the same
+    observation, normalisation and network (``policy``, the new run's) but for the action
+    entries, and at least one shared action (warm_start.py)."""
     from stable_baselines3 import PPO
 
     try:
         folder = read_policy_folder(path)
     except ValueError as error:
         raise _bad("--init-from", str(error)) from None
+    normalize = normalize_kwargs(hyperparams) is not None
+    if (folder.vecnormalize is not None) != normalize:
+        raise _bad(
+            "--init-from",
+            "the trained policy and the new config must both normalise observations or neither",
+        )
+    stats = _check_saved_model(folder.model, folder.vecnormalize, normalize, "--init-from")
     try:
         source = check_env_kwargs(folder.env_id, folder.env_kwargs)
     except ConfigError as error:
@@ -395,19 +403,14 @@ def _check_init_from(
     finally:
         source.close()
     try:
-        trained = PPO.load(folder.model, device="cpu")
+        state = PPO.load(folder.model, device="cpu").policy.state_dict()
     except Exception as error:  # a zip that is not an SB3 model fails in many ways
         raise _bad("--init-from", f"{folder.model} is not a PPO model ({error})") from None
     try:
-        warm_start.check_compatible(trained.policy.state_dict(), policy.state_dict(), shared)
+        warm_start.check_compatible(state, policy.state_dict(), shared)
     except ValueError as error:
         raise _bad("--init-from", str(error)) from None
-    if (folder.vecnormalize is not None) != (normalize_kwargs(hyperparams) is not None):
-        raise _bad(
-            "--init-from",
-            "the trained policy and the new config must both normalise observations or neither",
-        )
-    return folder, shared
+    return warm_start.TrainedStart(folder.model, state, stats, shared)
 
 
 def _check_policy_kwargs(probe: Any, hyperparams: dict[str, Any]) -> Any:
@@ -625,21 +628,14 @@ def _previous_segments(history: dict[str, Any]) -> list[dict[str, Any]]:
     return segments
 
 
-def _warm_start(model: Any, env: Any, folder: PolicyFolder, shared: list[tuple[int, int]]) -> None:
-    """Start ``model`` (and ``env``'s normalisation) as the trained policy in ``folder``."""
-    from stable_baselines3 import PPO
-
-    trained = PPO.load(folder.model, device=model.device)
-    try:
-        state = warm_start.transfer(trained.policy.state_dict(), model.policy.state_dict(), shared)
-    except ValueError as error:
-        raise _bad("--init-from", str(error)) from None
+def _warm_start(model: Any, env: Any, start: warm_start.TrainedStart) -> None:
+    """Start ``model`` (and ``env``'s normalisation) as the trained policy (checked by the plan)."""
+    state = warm_start.transfer(start.state, model.policy.state_dict(), start.shared)
     model.policy.load_state_dict(state)
-    if folder.vecnormalize is not None:
-        with open(folder.vecnormalize, "rb") as f:  # the statistics, detached from any env
-            warm_start.copy_normalization(pickle.load(f), env)
+    if start.normalization is not None:
+        warm_start.copy_normalization(start.normalization, env)
     print(
-        f"warm start from {folder.model}: {len(shared)} of {model.action_space.shape[0]} "
+        f"warm start from {start.model}: {len(start.shared)} of {model.action_space.shape[0]} "
         "actions carried over"
     )
 
@@ -713,7 +709,7 @@ def run_segment(
                 **algo_kwargs(plan.hyperparams),
             )
             if plan.init_from is not None:
-                _warm_start(model, env, plan.init_from, plan.init_actions)
+                _warm_start(model, env, plan.init_from)
         model.policy.forward = timer.wrap("policy_inference", model.policy.forward)
         config_callbacks = callbacks_from_config(plan.hyperparams.get("callback"))
     except BaseException:

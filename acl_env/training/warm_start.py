@@ -21,12 +21,26 @@ The optimiser starts afresh.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 ACTION_HEAD = ("action_net.weight", "action_net.bias")
 LOG_STD = "log_std"
+
+
+@dataclass(frozen=True)
+class TrainedStart:
+    """A trained policy checked against the new run (by ``acl-train``'s plan): its model file,
+    network weights, VecNormalize statistics (None without normalisation) and the
+    ``(new, trained)`` indices of the actions the two envs share."""
+
+    model: Path
+    state: dict[str, Any]
+    normalization: Any
+    shared: list[tuple[int, int]]
 
 
 def action_map(source: Sequence[str], target: Sequence[str]) -> list[tuple[int, int]]:

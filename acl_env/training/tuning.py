@@ -62,6 +62,7 @@ Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per ke
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import multiprocessing
 import os
@@ -853,7 +854,7 @@ def plot_frontier(
         if chosen is not None:
             ax.scatter(*point(chosen), marker="*", s=200, color="tab:red", label="tuned", zorder=4)
         marked = [point(t) for t in (default, chosen) if t is not None]
-        for (name, values_), colour in zip(policies, colours * len(policies), strict=False):
+        for (name, values_), colour in zip(policies, itertools.cycle(colours)):
             xy = (values_["energy_per_m"], values_[metric])
             if all(math.isfinite(v) for v in xy):
                 ax.scatter(*xy, marker="^", s=90, color=colour, label=name, zorder=5)

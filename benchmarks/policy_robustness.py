@@ -1,8 +1,9 @@
 """Is the policy no worse than open loop across the randomisation range? Pole radius x friction.
 
-``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out] [--json PATH]``
-evaluates the controllers of ``train/evaluate.py`` (:mod:`acl_env.training.evaluate`: the policy,
-open-loop ACL, at the policy's cadence, rolling helix, tuned gait; same seeds for all) at the
+``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out] [--json PATH]
+[--tuned-gaits FILE]`` evaluates the controllers of ``train/evaluate.py``
+(:mod:`acl_env.training.evaluate`: the policy, open-loop ACL, at the policy's cadence, rolling
+helix, tuned gait from ``--tuned-gaits``; same seeds for all) at the
 corners and centre of the training ranges of pole radius and friction, or with ``--held-out`` under
 conditions outside the training ranges (``HELD_OUT``), and prints the climb per gait cycle, slip
 per metre, largest touched arc and falls of each.
@@ -10,8 +11,10 @@ per metre, largest touched arc and falls of each.
 
 from __future__ import annotations
 
-import argparse
 import itertools
+from pathlib import Path
+
+import yaml
 
 from acl_env.evaluation import summarize
 from acl_env.training import cli
@@ -57,10 +60,13 @@ def grid_conditions() -> list[tuple[str, dict]]:
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--policy", default=str(DEFAULT_POLICY))
-    parser.add_argument("--episodes", type=int, default=5)
-    parser.add_argument("--workers", type=int, default=2)
+    parser = cli.ArgumentParser(prog="policy_robustness.py", description=__doc__.splitlines()[0])
+    parser.add_argument("--policy", type=cli.existing_dir, default=DEFAULT_POLICY)
+    parser.add_argument("--episodes", type=cli.int_at_least(1), default=5)
+    parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
+    parser.add_argument(
+        "--tuned-gaits", type=Path, default=DEFAULT_TUNED_GAITS, help="the tuned open-loop gaits"
+    )
     parser.add_argument(
         "--held-out", action="store_true", help="conditions outside the training ranges"
     )
@@ -68,13 +74,22 @@ def main(argv: list[str] | None = None) -> list[dict]:
         "--json", type=cli.output_file(".json"), help="write the rows to this JSON file"
     )
     args = parser.parse_args(argv)
-    folder = read_policy_folder(args.policy)
+    conditions = list(HELD_OUT) if args.held_out else grid_conditions()
+    try:
+        folder = read_policy_folder(args.policy)
+    except ValueError as error:
+        parser.error(f"argument --policy: {error}")
+    try:  # a tuned-gaits file that is not one: refused before any episode
+        build_controllers(folder, {}, None, args.tuned_gaits)
+    except (yaml.YAMLError, KeyError, TypeError, AttributeError) as error:
+        parser.error(
+            f"argument --tuned-gaits: {args.tuned_gaits} is not a tuned-gaits file ({error})"
+        )
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
-    conditions = list(HELD_OUT) if args.held_out else grid_conditions()
     for label, overrides in conditions:
-        controllers, notes = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
+        controllers, notes = build_controllers(folder, overrides, None, args.tuned_gaits)
         results = evaluate(controllers, seeds, progress=False, pool=pool)
         row: dict = {"condition": label, "overrides": overrides}
         for name, episodes in results.items():

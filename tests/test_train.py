@@ -99,15 +99,25 @@ def test_config_entries_build_ppo_arguments() -> None:
         assert not set(kwargs) & set(config.NON_ALGO_KEYS)
 
 
-def test_shipped_recipe_plays_the_tuned_gait() -> None:
-    """ppo.yml's ACLClimb-v1 entry starts from the tuner's "acl" gait, with the tuner's reward
-    weights (so evaluation's tuned open loop is the best gait for the same reward)."""
-    hyperparams = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", ACL_ID)
-    tuned = yaml.safe_load((TRAIN / "configs" / "tuned_gaits.yml").read_text())["acl"]
+# (recipe, tuned-gaits file, same reward weights): recipes that start from a tuner's gait
+GAIT_RECIPES = [
+    ("ppo.yml", "tuned_gaits.yml", True),  # the shipped recipe: the tuner's objective too
+    ("ablations/acl_no_energy_term.yml", "tuned_gaits.yml", False),
+    ("ablations/acl_climb_slip_tuned_gait.yml", "tuned_gaits_climb_slip.yml", True),
+]
+
+
+@pytest.mark.parametrize(("recipe", "gaits", "same_weights"), GAIT_RECIPES)
+def test_recipe_plays_the_tuned_gait(recipe: str, gaits: str, same_weights: bool) -> None:
+    """ppo.yml's ACLClimb-v1 entry (and the ablations beside it) start from the tuner's "acl"
+    gait; the shipped one with the tuner's reward weights, so evaluation's tuned open loop is the
+    best gait for the same reward."""
+    hyperparams = config.load_hyperparams(TRAIN / "configs" / recipe, ACL_ID)
+    tuned = yaml.safe_load((TRAIN / "configs" / gaits).read_text())["acl"]
     env_kwargs = hyperparams["env_kwargs"]
     assert env_kwargs["squeeze"] == tuned["env_kwargs"]["squeeze"]
     assert env_kwargs["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
-    assert env_kwargs["reward_weights"] == tuned["reward_weights"]
+    assert (env_kwargs["reward_weights"] == tuned["reward_weights"]) is same_weights
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))

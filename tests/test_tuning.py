@@ -22,7 +22,7 @@ import yaml
 
 from acl_env import ACL_CLIMB_ID
 from acl_env.evaluation import jsonable, run_episode, zero_policy
-from acl_env.training import tuning
+from acl_env.training import config, tuning
 
 ROOT = Path(__file__).resolve().parents[1]
 # 20-step cycles, one cycle per episode: a trial takes a fraction of a second.
@@ -104,7 +104,8 @@ def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) ->
                 validation["metrics"]["reward_per_gait_cycle"]
                 >= (other["metrics"]["reward_per_gait_cycle"])
             )
-    assert saved["reward_weights"] == {"climb": 1.0, "slip": 2.0}  # train/configs/ppo.yml
+    recipe = config.load_hyperparams(ROOT / "train" / "configs" / "ppo.yml", ACL_CLIMB_ID)
+    assert saved["reward_weights"] == recipe["env_kwargs"]["reward_weights"]  # the env's recipe
     assert saved["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 1
     assert set(saved["env_kwargs"]["gait_kwargs"]) == {*tuning.SEARCH_SPACE, "rolls_per_cycle"} - {
         "squeeze"

@@ -14,13 +14,12 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
-import yaml
-
 from acl_env.evaluation import summarize
 from acl_env.training import cli
 from acl_env.training.evaluate import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
+    TunedGaitsError,
     build_controllers,
     evaluate,
     make_pool,
@@ -81,10 +80,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
         parser.error(f"argument --policy: {error}")
     try:  # a tuned-gaits file that is not one: refused before any episode
         build_controllers(folder, {}, None, args.tuned_gaits)
-    except (yaml.YAMLError, KeyError, TypeError, AttributeError) as error:
-        parser.error(
-            f"argument --tuned-gaits: {args.tuned_gaits} is not a tuned-gaits file ({error})"
-        )
+    except TunedGaitsError as error:
+        parser.error(f"argument --tuned-gaits: {error}")
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell

@@ -532,3 +532,13 @@ def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
     _, note = evaluate.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
     assert note.startswith("train/configs/tuned_gaits.yml: 'acl'"), note
     assert shown_path(tmp_path / "policy") == str(tmp_path / "policy")  # outside: as given
+
+
+@pytest.mark.parametrize("text", ["acl: 5", "acl: {env_id: acl_env/ACLClimb-v1}", "[unclosed"])
+def test_a_malformed_tuned_gaits_file_is_refused_naming_it(tmp_path: Path, text: str) -> None:
+    """Not YAML, or an entry without the tuner's fields: one error naming the file, for every
+    tool that reads it (evaluate, policy_robustness, noroll_arc)."""
+    path = tmp_path / "tuned.yml"
+    path.write_text(text)
+    with pytest.raises(evaluate.TunedGaitsError, match=r"tuned\.yml is not a tuned-gaits file"):
+        evaluate.tuned_gait(path, None, non_rolling=False)

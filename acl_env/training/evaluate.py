@@ -214,26 +214,34 @@ def shown_path(path: str | Path) -> str:
     return str(resolved.relative_to(REPO_ROOT)) if resolved.is_relative_to(REPO_ROOT) else str(path)
 
 
+class TunedGaitsError(ValueError):
+    """A tuned-gaits file that is not one (not YAML, or an entry without the tuner's fields)."""
+
+
 def tuned_gait(
     path: Path, reward_weights: dict[str, float] | None, non_rolling: bool
 ) -> tuple[tuple[str, dict[str, Any]] | None, str]:
     """``(env_id, env_kwargs)`` of the tuned open-loop gait (``train/configs/tuned_gaits.yml``,
     written by ``train/tune_gait.py``; entry ``acl`` or ``acl_noroll``), and a note that says
-    which, or why there is none (``None``)."""
+    which, or why there is none (``None``). A malformed file raises :class:`TunedGaitsError`."""
     key = TUNED_KEYS[non_rolling]
     shown = shown_path(path)
     if not path.is_file():
         return None, f"{shown} does not exist (run train/tune_gait.py)"
-    entry = (yaml.safe_load(path.read_text()) or {}).get(key)
-    if entry is None:
-        flag = " --no-roll" if non_rolling else ""
-        return None, f"{shown} has no {key!r} entry (run train/tune_gait.py{flag})"
-    env_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
+    try:
+        entry = (yaml.safe_load(path.read_text()) or {}).get(key)
+        if entry is None:
+            flag = " --no-roll" if non_rolling else ""
+            return None, f"{shown} has no {key!r} entry (run train/tune_gait.py{flag})"
+        env_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
+        tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
+        objective = entry["objective"]
+    except (yaml.YAMLError, AttributeError, KeyError, TypeError, ValueError) as error:
+        raise TunedGaitsError(f"{shown} is not a tuned-gaits file ({error})") from None
     if env_id not in gymnasium.registry:
         return None, f"{shown}: {key!r} was tuned on {env_id}, not registered: re-run the tuner"
     weights = {**DEFAULT_REWARD_WEIGHTS, **(reward_weights or {})}
-    tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
-    note = f"{shown}: {key!r}, best of {entry.get('trials', '?')} trials for {entry['objective']}"
+    note = f"{shown}: {key!r}, best of {entry.get('trials', '?')} trials for {objective}"
     if {k: float(v) for k, v in tuned_for.items()} != {k: float(v) for k, v in weights.items()}:
         note += f" under reward_weights {tuned_for}, NOT the {weights} evaluated here"
     return (env_id, env_kwargs), note
@@ -467,10 +475,8 @@ def _checked_controllers(
             parser.error(f"argument --policy: {error}")
     try:
         controllers, notes = build_controllers(folder, overrides, weights, args.tuned_gaits)
-    except (yaml.YAMLError, KeyError, TypeError, AttributeError) as error:
-        parser.error(
-            f"argument --tuned-gaits: {args.tuned_gaits} is not a tuned-gaits file ({error})"
-        )
+    except TunedGaitsError as error:
+        parser.error(f"argument --tuned-gaits: {error}")
     if weights is not None:
         try:
             check_reward_weights(weights)

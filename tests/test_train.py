@@ -137,6 +137,22 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
         assert weights["slip"] == 2.0  # the shipped recipe's weights
 
 
+def test_linear_schedule_decays_to_zero() -> None:
+    """The zoo's ``lin_X`` becomes X at the start of training, X / 2 halfway and 0 at the end,
+    with no SB3 deprecation warning (``get_linear_fn`` is deprecated since SB3 2.5)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        kwargs = config.algo_kwargs({"learning_rate": "lin_2e-4", "clip_range": 0.2})
+    schedule = kwargs["learning_rate"]
+    # SB3 calls schedules with progress_remaining: 1 at the start of training, 0 at the end.
+    assert [schedule(p) for p in (1.0, 0.5, 0.0)] == pytest.approx([2e-4, 1e-4, 0.0])
+    assert kwargs["clip_range"] == 0.2
+    with pytest.raises(ValueError, match="learning_rate"):
+        config.algo_kwargs({"learning_rate": "linear_2e-4"})
+
+
 def test_config_strings_are_parsed_without_eval() -> None:
     """Zoo strings become objects; code is rejected instead of run."""
     import torch

@@ -86,9 +86,9 @@ def parse_kv_pairs(items: Iterable[str] | None) -> dict[str, Any]:
 
 def linear_schedule(initial: float) -> Callable[[float], float]:
     """SB3 schedule decaying linearly from ``initial`` to 0 over training (zoo's ``lin_X``)."""
-    from stable_baselines3.common.utils import get_linear_fn
+    from stable_baselines3.common.utils import LinearSchedule
 
-    return get_linear_fn(initial, 0.0, 1.0)
+    return LinearSchedule(initial, 0.0, 1.0)
 
 
 # --- configs -------------------------------------------------------------------------------------

@@ -53,7 +53,9 @@ def main(argv: list[str] | None = None) -> None:
     if len(labels) != len(args.runs):
         parser.error("--labels needs one label per run")
     data = {label: read_curves(run) for label, run in zip(labels, args.runs, strict=True)}
-    fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.4))
+    fig, axes = plt.subplots(
+        1, len(PANELS), figsize=(4.2 * len(PANELS), 3.4 + 0.2 * len(data)), layout="constrained"
+    )
     for ax, (tag, title) in zip(axes, PANELS.items(), strict=True):
         for label, curves in data.items():
             if curves[tag]:
@@ -62,8 +64,9 @@ def main(argv: list[str] | None = None) -> None:
         ax.set_title(title)
         ax.set_xlabel("env steps")
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
+    # One legend under the panels: long labels neither cover the curves nor squeeze the panels.
+    handles, names = axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncols=2, fontsize=9, frameon=False)
     fig.savefig(args.out, dpi=110)
     print(f"wrote {args.out}")
     if args.json:

@@ -102,6 +102,7 @@ def test_config_entries_build_ppo_arguments() -> None:
 # (recipe, tuned-gaits file, same reward weights): recipes that start from a tuner's gait
 GAIT_RECIPES = [
     ("ppo.yml", "tuned_gaits.yml", True),  # the shipped recipe: the tuner's objective too
+    ("ablations/acl_constant_lr.yml", "tuned_gaits.yml", True),
     ("ablations/acl_no_energy_term.yml", "tuned_gaits.yml", False),
     ("ablations/acl_climb_slip_tuned_gait.yml", "tuned_gaits_climb_slip.yml", True),
 ]
@@ -118,6 +119,25 @@ def test_recipe_plays_the_tuned_gait(recipe: str, gaits: str, same_weights: bool
     assert env_kwargs["squeeze"] == tuned["env_kwargs"]["squeeze"]
     assert env_kwargs["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
     assert (env_kwargs["reward_weights"] == tuned["reward_weights"]) is same_weights
+
+
+@pytest.mark.parametrize(
+    ("env_id", "policy"),
+    [(ACL_ID, "acl_climb_ppo"), (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo")],
+)
+def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, policy: str) -> None:
+    """The README says each shipped policy comes from its ppo.yml entry: the run's merged
+    config.yml must be that entry (``n_timesteps`` aside: a run in segments passes
+    ``--n-timesteps`` per segment), and the run must have trained all of its steps."""
+    folder = TRAIN / "policies" / policy
+    recipe = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
+    trained = config.load_hyperparams(folder / "config.yml", env_id)
+    assert {k: v for k, v in trained.items() if k != "n_timesteps"} == {
+        k: v for k, v in recipe.items() if k != "n_timesteps"
+    }
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["total_steps"] >= recipe["n_timesteps"]
+    assert not summary["interrupted"]
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))

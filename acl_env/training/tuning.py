@@ -1086,7 +1086,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
         title = (
             f"{key}: {entry['trials']} open-loop gaits on {settings.env_id}, {len(settings.seeds)}"
-            f" seeds each\n{settings.objective} with reward weights {weights}"
+            f" seeds each, {settings.steps_per_cycle} steps per gait cycle"
+            f"\n{settings.objective} with reward weights {weights}"
         )
         plot_frontier(study, settings, plot, title, chosen, policies, others)
         print(f"frontier figure: {plot}")

@@ -121,6 +121,23 @@ def test_recipe_plays_the_tuned_gait(recipe: str, gaits: str, same_weights: bool
     assert (env_kwargs["reward_weights"] == tuned["reward_weights"]) is same_weights
 
 
+def test_cadence_study_is_tuned_for_the_shipped_reward_at_the_policys_cadence() -> None:
+    """tuned_gaits_cadence145.yml, the README's strictest baseline, was tuned for the shipped
+    reward with the 220-keyframe cycle played in 152 steps (1.45 keyframes per step, the shipped
+    policy's mean cadence in docs/eval.json within 1 %), and evaluation can play it."""
+    from acl_env.training.evaluate import tuned_gait
+
+    path = TRAIN / "configs" / "tuned_gaits_cadence145.yml"
+    entry = yaml.safe_load(path.read_text())["acl"]
+    recipe = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", ACL_ID)
+    assert entry["reward_weights"] == recipe["env_kwargs"]["reward_weights"]
+    cadence = json.loads((ROOT / "docs" / "eval.json").read_text())["same_cadence_phase_rate"]
+    assert 220 / entry["steps_per_cycle"] == pytest.approx(cadence, rel=0.01)
+    gait, note = tuned_gait(path, recipe["env_kwargs"]["reward_weights"], non_rolling=False)
+    assert gait is not None and "NOT" not in note
+    assert gait[1]["gait_kwargs"]["rolls_per_cycle"] == 1
+
+
 @pytest.mark.parametrize(
     ("env_id", "policy"),
     [(ACL_ID, "acl_climb_ppo"), (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo")],

@@ -227,6 +227,61 @@ def test_named_callback_from_the_config(tmp_path: Path) -> None:
     assert isinstance(callback, InfoTermsCallback)
 
 
+def test_policy_class_by_dotted_path(tmp_path: Path) -> None:
+    """``policy:`` may name an ActorCriticPolicy subclass by dotted path: the run trains with it,
+    its config records the path, and the saved model loads as that class."""
+    from acl_env.training.networks import LayerNormCriticPolicy
+
+    path = "acl_env.training.networks.LayerNormCriticPolicy"
+    run_dir = run(tiny_argv(tmp_path, ROLLOUT, "--hyperparams", f"policy:{path}"))
+    (entry,) = yaml.safe_load((run_dir / "config.yml").read_text()).values()
+    assert entry["policy"] == path
+    model, _, summary = load(run_dir)
+    assert isinstance(model.policy, LayerNormCriticPolicy)
+    assert summary["total_steps"] == ROLLOUT
+
+
+def test_layer_norm_critic_normalises_only_the_critic() -> None:
+    """Each hidden Linear of the critic is followed by a LayerNorm; the actor is MlpPolicy's."""
+    from stable_baselines3.common.policies import ActorCriticPolicy
+
+    from acl_env.training.networks import LayerNormCriticPolicy
+
+    kwargs = {"n_steps": 64, "batch_size": 64, "seed": 0, "device": "cpu"}
+    plain = PPO(ActorCriticPolicy, "Pendulum-v1", **kwargs).policy.mlp_extractor
+    normed = PPO(LayerNormCriticPolicy, "Pendulum-v1", **kwargs).policy.mlp_extractor
+    kinds = [type(m).__name__ for m in normed.value_net]
+    assert kinds == ["Linear", "LayerNorm", "Tanh", "Linear", "LayerNorm", "Tanh"]
+    assert [type(m) for m in normed.policy_net] == [type(m) for m in plain.policy_net]
+
+
+def test_critic_warmup_freezes_the_actor_then_lets_it_learn() -> None:
+    """Updates up to ``steps`` change the critic only (actor weights and log_std bit-identical,
+    KL 0); the first update after them changes the actor."""
+    from acl_env.training.callbacks import CriticWarmupCallback
+
+    model = PPO("MlpPolicy", "Pendulum-v1", n_steps=64, batch_size=32, n_epochs=2, seed=0)
+    warmup = CriticWarmupCallback(steps=64)
+
+    def split(params: dict[str, torch.Tensor]) -> tuple[dict, dict]:
+        actor = {k: v for k, v in params.items() if "value" not in k}
+        return actor, {k: v for k, v in params.items() if "value" in k}
+
+    actor0, critic0 = split(policy_params(model))
+    assert any(k.startswith("mlp_extractor.policy_net") for k in actor0) and "log_std" in actor0
+    model.learn(64, callback=warmup)  # one update, at 64 steps: warming
+    actor1, critic1 = split(policy_params(model))
+    assert_same_params(actor0, actor1)
+    assert any(not torch.equal(critic0[k], critic1[k]) for k in critic0)
+    assert model.logger.name_to_value["train/approx_kl"] == 0.0  # the update's, not yet dumped
+    model.learn(64, callback=CriticWarmupCallback(steps=64), reset_num_timesteps=False)
+    actor2, _ = split(policy_params(model))
+    assert model.logger.name_to_value["train/approx_kl"] > 0.0
+    assert any(not torch.equal(actor1[k], actor2[k]) for k in actor1)
+    with pytest.raises(ValueError, match="steps"):
+        CriticWarmupCallback(steps=0)
+
+
 # --- command lines refused before any work ------------------------------------------------------
 
 
@@ -267,6 +322,8 @@ BAD_NEW_RUNS = [
     (["--hyperparams", "n_epochs:2.5"], "n_epochs"),
     (["--hyperparams", "policy_kwargs:dict(no_such_arg=1)"], "policy_kwargs"),
     (["--hyperparams", "callback:no.such.Callback"], "callback"),
+    (["--hyperparams", "policy:no.such.Policy"], "policy"),
+    (["--hyperparams", "policy:acl_env.training.callbacks.InfoTermsCallback"], "policy"),
     (["--hyperparams", "env_kwargs:{}"], "--env-kwargs"),
     (["--hyperparams", "nocolon"], "--hyperparams"),
     (["--hyperparams", "n_steps:64", "n_steps:32"], "twice"),

@@ -15,7 +15,6 @@
 from __future__ import annotations
 
 import copy
-import importlib
 import time
 from collections import defaultdict
 from collections.abc import Callable
@@ -25,6 +24,8 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.running_mean_std import RunningMeanStd
+
+from acl_env.training.config import import_dotted
 
 
 class InfoTermsCallback(BaseCallback):
@@ -207,6 +208,55 @@ def callbacks_from_config(value: Any) -> list[BaseCallback]:
     callbacks = []
     for item in value if isinstance(value, list) else [value]:
         name, kwargs = next(iter(item.items())) if isinstance(item, dict) else (item, {})
-        module, _, attr = name.rpartition(".")
-        callbacks.append(getattr(importlib.import_module(module), attr)(**(kwargs or {})))
+        callbacks.append(import_dotted(name)(**(kwargs or {})))
     return callbacks
+
+
+class CriticWarmupCallback(BaseCallback):
+    """Train only the critic for the first ``steps`` env steps: the actor's gradients are zeroed.
+
+    A residual policy starts as the open-loop gait (zero mean action). Its first PPO updates
+    would otherwise follow advantages from an untrained value function; here the critic first
+    learns the value of the gait played with the initial exploration noise. With zero gradients
+    from the start, Adam's moments of the actor stay zero and its weights (and ``log_std``) do not
+    move at all, so the KL of those updates is 0 and PPO's early stop never cuts the critic's
+    epochs. From ``steps`` on, training is plain PPO. Name it in a config as
+    ``{acl_env.training.callbacks.CriticWarmupCallback: {steps: 100000}}``.
+    """
+
+    def __init__(self, steps: int, verbose: int = 0) -> None:
+        super().__init__(verbose)
+        if int(steps) < 1:
+            raise ValueError(f"CriticWarmupCallback: steps must be >= 1 env step, got {steps}")
+        self.steps = int(steps)
+        self._handles: list[Any] = []
+
+    def actor_parameters(self) -> list[Any]:
+        """The parameters only the actor uses: its MLP branch, action head and ``log_std``."""
+        policy = self.model.policy
+        if not policy.share_features_extractor or list(policy.features_extractor.parameters()):
+            raise ValueError("CriticWarmupCallback: the features extractor must have no weights")
+        params = [*policy.mlp_extractor.policy_net.parameters(), *policy.action_net.parameters()]
+        return [*params, policy.log_std]
+
+    @property
+    def warming(self) -> bool:
+        """Whether the update about to run is a critic-only one."""
+        return self.model.num_timesteps <= self.steps
+
+    def _mask(self, grad: Any) -> Any:
+        return grad.mul(0.0) if self.warming else grad
+
+    def _on_training_start(self) -> None:
+        self._handles = [p.register_hook(self._mask) for p in self.actor_parameters()]
+
+    def _on_rollout_end(self) -> None:
+        self.logger.record("train/critic_warmup", int(self.warming))
+
+    def _on_step(self) -> bool:
+        return True
+
+    def _on_training_end(self) -> None:
+        for handle in self._handles:
+            handle.remove()
+        self._handles = []

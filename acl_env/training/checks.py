@@ -7,7 +7,6 @@ what is accepted, so a command line can refuse the run before it spawns a worker
 from __future__ import annotations
 
 import collections.abc
-import importlib
 import inspect
 import math
 import types
@@ -18,7 +17,7 @@ from typing import Any
 import gymnasium
 from gymnasium.envs.registration import load_env_creator
 
-from acl_env.training.config import NON_ALGO_KEYS, parse_python_literal
+from acl_env.training.config import NON_ALGO_KEYS, import_dotted, parse_python_literal
 
 # Arguments of PPO.__init__ that the trainer sets itself, never the config.
 TRAINER_SET = ("self", "env", "tensorboard_log", "verbose", "seed", "device", "_init_setup_model")
@@ -171,13 +170,27 @@ def _callback(value: Any) -> bool:
         name = next(iter(item)) if isinstance(item, dict) and len(item) == 1 else item
         if not isinstance(name, str) or "." not in name:
             return False
-        module, _, attr = name.rpartition(".")
         try:
-            if not isinstance(getattr(importlib.import_module(module), attr, None), type):
+            if not isinstance(import_dotted(name), type):
                 return False
-        except ImportError:
+        except ValueError:
             return False
     return True
+
+
+def _policy(value: Any) -> bool:
+    """``policy``: SB3's ``MlpPolicy``, or the dotted path of an ``ActorCriticPolicy`` subclass."""
+    if value == "MlpPolicy":
+        return True
+    if not isinstance(value, str) or "." not in value:
+        return False
+    from stable_baselines3.common.policies import ActorCriticPolicy
+
+    try:
+        cls = import_dotted(value)
+    except ValueError:
+        return False
+    return isinstance(cls, type) and issubclass(cls, ActorCriticPolicy)
 
 
 # key -> (check, what is accepted)
@@ -200,7 +213,7 @@ HYPERPARAM_CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "use_sde": (_bool, "True or False"),
     "sde_sample_freq": (lambda v: _positive_int(v) or v == -1, "-1 or an integer >= 1"),
     "stats_window_size": (_positive_int, "an integer >= 1"),
-    "policy": (lambda v: v in ("MlpPolicy",), "'MlpPolicy'"),
+    "policy": (_policy, "'MlpPolicy' or the dotted path of an ActorCriticPolicy subclass"),
     "policy_kwargs": (_policy_kwargs, "a dict or a dict(...) string"),
     "normalize": (_normalize, "a bool or a dict of VecNormalize arguments"),
     "env_kwargs": (lambda v: v is None or isinstance(v, dict), "a mapping"),

@@ -123,9 +123,24 @@ def normalize_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any] | None:
     return kwargs
 
 
+def import_dotted(name: str) -> Any:
+    """The object a dotted path names (``package.module.Class``); ``ValueError`` if none."""
+    module, _, attr = name.rpartition(".")
+    if not module:
+        raise ValueError(f"not a dotted path: {name!r}")
+    try:
+        value = getattr(importlib.import_module(module), attr)
+    except (ImportError, AttributeError) as error:
+        raise ValueError(f"cannot import {name!r}: {error}") from error
+    return value
+
+
 def algo_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any]:
-    """Keyword arguments for the SB3 algorithm: strings parsed, ``lin_X`` made schedules."""
+    """Keyword arguments for the SB3 algorithm: strings parsed, ``lin_X`` made schedules, a
+    dotted ``policy`` path imported (SB3's own aliases such as ``MlpPolicy`` stay strings)."""
     kwargs = {k: v for k, v in hyperparams.items() if k not in NON_ALGO_KEYS}
+    if isinstance(kwargs.get("policy"), str) and "." in kwargs["policy"]:
+        kwargs["policy"] = import_dotted(kwargs["policy"])
     if isinstance(kwargs.get("policy_kwargs"), str):
         kwargs["policy_kwargs"] = parse_python_literal(kwargs["policy_kwargs"])
     for key in ("learning_rate", "clip_range", "clip_range_vf"):

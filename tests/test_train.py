@@ -105,6 +105,8 @@ GAIT_RECIPES = [
     ("ablations/acl_constant_lr.yml", "tuned_gaits.yml", True),
     ("ablations/acl_no_energy_term.yml", "tuned_gaits.yml", False),
     ("ablations/acl_climb_slip_tuned_gait.yml", "tuned_gaits_climb_slip.yml", True),
+    ("ablations/acl_cadence_tuned_gait.yml", "tuned_gaits_cadence145.yml", True),
+    ("ablations/acl_cadence_tuned_gait_critic.yml", "tuned_gaits_cadence145.yml", True),
 ]
 
 

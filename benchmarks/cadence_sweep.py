@@ -1,0 +1,160 @@
+"""How does an open-loop gait's reward per gait cycle change with the cadence it is played at?
+
+``python benchmarks/cadence_sweep.py [--tuned-gaits FILE ...] [--rates 1.0 1.1 ...] [--episodes
+10] [--policy-point EVAL_JSON[=LABEL] ...] [--json PATH] [--plot PATH]`` plays the ``acl`` entry
+of each tuned-gaits file open loop at constant cadences (gait keyframes per env step, as the
+evaluation's ``open_loop_acl_same_cadence`` does for a policy that sets the cadence), on the same
+reset seeds for every gait and rate, with each entry's own reward weights, and prints climb and
+slip per gait cycle and reward per gait cycle (mean and 95 % CI). ``--policy-point`` marks a
+policy's (mean cadence, reward per gait cycle) from an evaluation JSON of ``train/evaluate.py``.
+
+A residual policy with the cadence action is compared with open loops at its own cadence; this
+shows what the cadence alone is worth to each open loop, and which gait is the best open loop at
+each cadence.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from acl_env import ACL_CLIMB_ID
+from acl_env.evaluation import summarize
+from acl_env.training import cli
+from acl_env.training.evaluate import Controller, make_pool, run_controllers, shown_path
+from acl_env.training.runs import write_json
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_GAITS = (
+    ROOT / "train" / "configs" / "tuned_gaits.yml",
+    ROOT / "train" / "configs" / "tuned_gaits_cadence145.yml",
+)
+METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")
+
+
+def gait_controllers(path: Path, rates: list[float]) -> list[Controller]:
+    """The ``acl`` gait of a tuned-gaits file at each cadence, with the entry's reward weights."""
+    entry = yaml.safe_load(path.read_text())["acl"]
+    env_id = entry.get("env_id", ACL_CLIMB_ID)
+    kwargs: dict[str, Any] = {
+        **entry["env_kwargs"],
+        "phase_rate_range": [min(0.5, *rates), max(1.5, *rates)],
+        "reward_weights": entry["reward_weights"],
+    }
+    label = f"{path.stem} (study {entry['study']}, {entry['steps_per_cycle']} steps per cycle)"
+    return [Controller(f"{label}@{rate:g}", env_id, kwargs, phase_rate=rate) for rate in rates]
+
+
+def policy_point(spec: str) -> dict[str, Any]:
+    """``EVAL_JSON[=LABEL]`` -> the policy's mean cadence, label and metrics (mean, half-width)."""
+    path, _, label = spec.partition("=")
+    policy = json.loads(Path(path).read_text())["controllers"]["policy"]
+    point = {"rate": policy["mean_phase_rate"], "label": label or Path(path).stem}
+    return point | {m: {k: policy[m][k] for k in ("mean", "half_width")} for m in METRICS}
+
+
+def plot(rows: list[dict[str, Any]], points: list[dict[str, Any]], path: Path) -> None:
+    """Reward per gait cycle against cadence, one line per gait, policies as markers."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), constrained_layout=True)
+    panels = (
+        ("reward_per_gait_cycle", "reward per gait cycle"),
+        ("climb_per_gait_cycle_m", "climb per gait cycle (m)"),
+        ("slip_per_m", "slip per metre climbed"),
+    )
+    for gait in dict.fromkeys(r["gait"] for r in rows):
+        mine = [r for r in rows if r["gait"] == gait]
+        for ax, (metric, _) in zip(axes, panels, strict=True):
+            ax.errorbar(
+                [r["rate"] for r in mine],
+                [r[metric]["mean"] for r in mine],
+                yerr=[r[metric]["half_width"] for r in mine],
+                marker="o",
+                capsize=3,
+                label=f"open loop: {gait}",
+            )
+    for point in points:
+        for ax, (metric, _) in zip(axes, panels, strict=True):
+            value = point[metric]
+            ax.errorbar(
+                [point["rate"]],
+                [value["mean"]],
+                yerr=[value["half_width"]],
+                marker="*",
+                ms=12,
+                ls="",
+                label=point["label"],
+            )
+    for ax, (_, title) in zip(axes, panels, strict=True):
+        ax.set_xlabel("cadence (gait keyframes per step)")
+        ax.set_title(title)
+        ax.grid(alpha=0.3)
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=2)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
+    parser = cli.ArgumentParser(prog="cadence_sweep.py", description=__doc__.splitlines()[0])
+    parser.add_argument("--tuned-gaits", type=Path, nargs="+", default=DEFAULT_GAITS)
+    parser.add_argument(
+        "--rates", type=float, nargs="+", default=[1.0, 1.1, 1.2, 1.3, 1.4, 1.45, 1.5]
+    )
+    parser.add_argument("--episodes", type=cli.int_at_least(1), default=10)
+    parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
+    parser.add_argument("--policy-point", action="append", default=[], metavar="EVAL_JSON[=LABEL]")
+    parser.add_argument("--json", type=cli.output_file(".json"))
+    parser.add_argument("--plot", type=cli.output_file(".png"))
+    args = parser.parse_args(argv)
+    for path in args.tuned_gaits:
+        if not Path(path).is_file():
+            parser.error(f"argument --tuned-gaits: no such file: {path}")
+    if any(not 0.0 < rate <= 3.0 for rate in args.rates):
+        parser.error(f"argument --rates: each must be in (0, 3], got {args.rates}")
+    try:
+        points = [policy_point(spec) for spec in args.policy_point]
+    except (OSError, KeyError, ValueError) as error:
+        parser.error(f"argument --policy-point: {error!r}")
+    controllers = [c for path in args.tuned_gaits for c in gait_controllers(Path(path), args.rates)]
+    pool = make_pool(args.workers)
+    try:
+        results = run_controllers(controllers, list(range(args.episodes)), pool)
+    finally:
+        if pool is not None:
+            pool.shutdown()
+    rows = []
+    for controller in controllers:
+        summary = summarize(results[controller.name])
+        gait, _, _ = controller.name.rpartition("@")
+        row = {"gait": gait, "rate": controller.phase_rate}
+        row |= {m: {k: summary[m][k] for k in ("mean", "half_width")} for m in METRICS}
+        row["falls"] = summary["falls"]["count"]
+        rows.append(row)
+    print(f"{'gait':<76} {'cadence':>7} " + " ".join(f"{m:>26}" for m in METRICS) + "  falls")
+    for row in rows:
+        cells = " ".join(f"{row[m]['mean']:>16.4f} ± {row[m]['half_width']:<7.4f}" for m in METRICS)
+        print(f"{row['gait']:<76} {row['rate']:>7.3f} {cells}  {row['falls']}")
+    print(
+        f"mean ± 95 % CI half-width, {args.episodes} episodes (reset seeds 0-{args.episodes - 1})"
+    )
+    if args.json:
+        document = {
+            "tuned_gaits": [shown_path(p) for p in args.tuned_gaits],
+            "episodes": args.episodes,
+            "rows": rows,
+        }
+        write_json(Path(args.json), document)
+    if args.plot:
+        plot(rows, points, Path(args.plot))
+    return rows
+
+
+if __name__ == "__main__":
+    main()

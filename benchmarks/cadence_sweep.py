@@ -4,8 +4,9 @@
 10] [--policy-point EVAL_JSON[=LABEL] ...] [--json PATH] [--plot PATH]`` plays the ``acl`` entry
 of each tuned-gaits file open loop at constant cadences (gait keyframes per env step, as the
 evaluation's ``open_loop_acl_same_cadence`` does for a policy that sets the cadence), on the same
-reset seeds for every gait and rate, with each entry's own reward weights, and prints climb and
-slip per gait cycle and reward per gait cycle (mean and 95 % CI). ``--policy-point`` marks a
+reset seeds for every gait and rate, under the same reward weights (``--reward-weights``, default
+the shipped recipe's), and prints climb, slip, energy and reward per gait cycle (mean and 95 %
+CI). ``--policy-point`` marks a
 policy's (mean cadence, reward per gait cycle) from an evaluation JSON of ``train/evaluate.py``.
 
 A residual policy with the cadence action is compared with open loops at its own cadence; this
@@ -19,12 +20,18 @@ import json
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from acl_env import ACL_CLIMB_ID
+from acl_env.envs.rewards import check_reward_weights
 from acl_env.evaluation import summarize
-from acl_env.training import cli
-from acl_env.training.evaluate import Controller, make_pool, run_controllers, shown_path
+from acl_env.training import cli, config
+from acl_env.training.evaluate import (
+    Controller,
+    TunedGaitsError,
+    make_pool,
+    run_controllers,
+    shown_path,
+    tuned_gait,
+)
 from acl_env.training.runs import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,20 +39,28 @@ DEFAULT_GAITS = (
     ROOT / "train" / "configs" / "tuned_gaits.yml",
     ROOT / "train" / "configs" / "tuned_gaits_cadence145.yml",
 )
+RECIPE = ROOT / "train" / "configs" / "ppo.yml"
 METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")
 
 
-def gait_controllers(path: Path, rates: list[float]) -> list[Controller]:
-    """The ``acl`` gait of a tuned-gaits file at each cadence, with the entry's reward weights."""
-    entry = yaml.safe_load(path.read_text())["acl"]
-    env_id = entry.get("env_id", ACL_CLIMB_ID)
-    kwargs: dict[str, Any] = {
-        **entry["env_kwargs"],
+def gait_controllers(
+    path: Path, rates: list[float], reward_weights: dict[str, float]
+) -> tuple[list[Controller], str]:
+    """The ``acl`` gait of a tuned-gaits file (read by :func:`tuned_gait`, which refuses a
+    malformed file) at each cadence, and the note saying which gait and for which weights."""
+    gait, note = tuned_gait(path, reward_weights, non_rolling=False)
+    if gait is None:
+        raise TunedGaitsError(note)
+    env_id, env_kwargs = gait
+    kwargs = {
+        **env_kwargs,
         "phase_rate_range": [min(0.5, *rates), max(1.5, *rates)],
-        "reward_weights": entry["reward_weights"],
+        "reward_weights": reward_weights,
     }
-    label = f"{path.stem} (study {entry['study']}, {entry['steps_per_cycle']} steps per cycle)"
-    return [Controller(f"{label}@{rate:g}", env_id, kwargs, phase_rate=rate) for rate in rates]
+    controllers = [
+        Controller(f"{path.stem}@{rate:g}", env_id, kwargs, phase_rate=rate) for rate in rates
+    ]
+    return controllers, note
 
 
 def policy_point(spec: str) -> dict[str, Any]:
@@ -57,7 +72,8 @@ def policy_point(spec: str) -> dict[str, Any]:
 
 
 def plot(rows: list[dict[str, Any]], points: list[dict[str, Any]], path: Path) -> None:
-    """Reward per gait cycle against cadence, one line per gait, policies as markers."""
+    """Reward, climb and slip per gait cycle against cadence, one line per gait, policies as
+    markers."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -107,22 +123,42 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     parser.add_argument(
         "--rates", type=float, nargs="+", default=[1.0, 1.1, 1.2, 1.3, 1.4, 1.45, 1.5]
     )
+    parser.add_argument(
+        "--reward-weights",
+        type=cli.key_value,
+        nargs="+",
+        default=None,
+        metavar="TERM:WEIGHT",
+        help="reward weights of every gait's env (default: the shipped recipe's, ppo.yml)",
+    )
     parser.add_argument("--episodes", type=cli.int_at_least(1), default=10)
     parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
     parser.add_argument("--policy-point", action="append", default=[], metavar="EVAL_JSON[=LABEL]")
     parser.add_argument("--json", type=cli.output_file(".json"))
     parser.add_argument("--plot", type=cli.output_file(".png"))
     args = parser.parse_args(argv)
-    for path in args.tuned_gaits:
-        if not Path(path).is_file():
-            parser.error(f"argument --tuned-gaits: no such file: {path}")
     if any(not 0.0 < rate <= 3.0 for rate in args.rates):
         parser.error(f"argument --rates: each must be in (0, 3], got {args.rates}")
+    if args.reward_weights is None:
+        weights = config.load_hyperparams(RECIPE, ACL_CLIMB_ID)["env_kwargs"]["reward_weights"]
+    else:
+        weights = cli.pairs_to_dict("--reward-weights", args.reward_weights)
+    try:
+        check_reward_weights(weights)
+    except (TypeError, ValueError) as error:
+        parser.error(f"argument --reward-weights: {error}")
     try:
         points = [policy_point(spec) for spec in args.policy_point]
     except (OSError, KeyError, ValueError) as error:
         parser.error(f"argument --policy-point: {error!r}")
-    controllers = [c for path in args.tuned_gaits for c in gait_controllers(Path(path), args.rates)]
+    controllers = []
+    for path in args.tuned_gaits:
+        try:
+            gaits, note = gait_controllers(Path(path), args.rates, weights)
+        except TunedGaitsError as error:
+            parser.error(f"argument --tuned-gaits: {error}")
+        print(note)
+        controllers += gaits
     pool = make_pool(args.workers)
     try:
         results = run_controllers(controllers, list(range(args.episodes)), pool)
@@ -137,16 +173,17 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
         row |= {m: {k: summary[m][k] for k in ("mean", "half_width")} for m in METRICS}
         row["falls"] = summary["falls"]["count"]
         rows.append(row)
-    print(f"{'gait':<76} {'cadence':>7} " + " ".join(f"{m:>26}" for m in METRICS) + "  falls")
+    print(f"{'gait':<24} {'cadence':>7} " + " ".join(f"{m:>26}" for m in METRICS) + "  falls")
     for row in rows:
         cells = " ".join(f"{row[m]['mean']:>16.4f} ± {row[m]['half_width']:<7.4f}" for m in METRICS)
-        print(f"{row['gait']:<76} {row['rate']:>7.3f} {cells}  {row['falls']}")
+        print(f"{row['gait']:<24} {row['rate']:>7.3f} {cells}  {row['falls']}")
     print(
         f"mean ± 95 % CI half-width, {args.episodes} episodes (reset seeds 0-{args.episodes - 1})"
     )
     if args.json:
         document = {
             "tuned_gaits": [shown_path(p) for p in args.tuned_gaits],
+            "reward_weights": weights,
             "episodes": args.episodes,
             "rows": rows,
         }

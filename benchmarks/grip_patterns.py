@@ -1,10 +1,11 @@
 """Is the tuned gait's grip already where it should be? Fixed per-section squeeze patterns.
 
-``python benchmarks/grip_patterns.py [--seeds 3] [--scale 0.003] [--json PATH]``: the tuned
-open-loop ACL gait (``acl`` in ``train/configs/tuned_gaits.yml``) with a constant gait-modulation
+``python benchmarks/grip_patterns.py [--seeds 3] [--scale 0.003] [--tuned-gaits FILE] [--json
+PATH]``: the tuned open-loop ACL gait (``acl`` in ``train/configs/tuned_gaits.yml``, or in
+``--tuned-gaits``) with a constant gait-modulation
 action (:mod:`acl_env.envs.modulation`): the squeeze offset by ``+-scale`` in some of the four body
 sections (head first), the authority the grip ablation's policy had. Two cycles per reset seed at
-default conditions, reward weights climb 1, slip 2 (the tuner's). Prints each pattern's climb per
+default conditions, under the reward weights the gait was tuned for. Prints each pattern's climb per
 gait cycle, slip and energy per metre and reward per gait cycle, as ratios to the tuned gait. A
 pattern above 1 in reward would be a grip the tuner's family (one squeeze for the whole body)
 cannot express and a policy could learn by holding it.
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Callable
+from pathlib import Path
 
 import gymnasium
 import numpy as np
@@ -54,12 +56,20 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--scale", type=float, default=0.003, help="squeeze offset (m)")
     parser.add_argument(
+        "--tuned-gaits",
+        type=Path,
+        default=DEFAULT_TUNED_GAITS,
+        help="tuned-gaits file whose 'acl' gait is played (default: %(default)s)",
+    )
+    parser.add_argument(
         "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
     )
     args = parser.parse_args(argv)
     if args.seeds < 1:
         parser.error("--seeds must be at least 1")
-    tuned = yaml.safe_load(DEFAULT_TUNED_GAITS.read_text())["acl"]
+    if not args.tuned_gaits.is_file():
+        parser.error(f"--tuned-gaits: {args.tuned_gaits} is not a file")
+    tuned = yaml.safe_load(args.tuned_gaits.read_text())["acl"]
     env = gymnasium.make(
         ACL_CLIMB_ID,
         **tuned["env_kwargs"],

@@ -37,7 +37,7 @@ from acl_env.training.runs import write_json
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_GAITS = (
     ROOT / "train" / "configs" / "tuned_gaits.yml",
-    ROOT / "train" / "configs" / "tuned_gaits_cadence145.yml",
+    ROOT / "train" / "configs" / "tuned_gaits_acl_energy.yml",
 )
 RECIPE = ROOT / "train" / "configs" / "ppo.yml"
 METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")

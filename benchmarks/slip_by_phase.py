@@ -1,0 +1,173 @@
+"""Where in the gait cycle does a policy slide less (or more) than its gait at the same cadence?
+
+``python benchmarks/slip_by_phase.py [--policy DIR] [--episodes 10] [--bins 10]
+[--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH]``: the policy (deterministic, as
+``train/evaluate.py`` runs it) and its own base gait played open loop at the policy's mean cadence
+(evaluation's ``open_loop_acl_same_cadence`` controller), on the same reset seeds at default
+conditions (or ``--env-kwargs``). Each step's contact slip, climb and actuator work (the env's
+``info``) is binned by the gait phase the step ends at, and each bin is reported per gait cycle
+executed. A policy that slides less overall can still slide more in some tenths of the cycle:
+this shows where its corrections pay and where they cost.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import gymnasium
+import numpy as np
+from tqdm import tqdm
+
+from acl_env.evaluation import run_episode, steps_per_cycle
+from acl_env.training import cli
+from acl_env.training.checks import check_env_kwargs
+from acl_env.training.evaluate import (
+    DEFAULT_POLICY,
+    DEFAULT_TUNED_GAITS,
+    SAME_CADENCE,
+    Controller,
+    build_controllers,
+)
+from acl_env.training.policy import read_policy_folder
+from acl_env.training.runs import write_json
+
+TERMS = ("slip", "climb", "energy")
+
+
+def binned_run(
+    controller: Controller, seeds: list[int], bins: int, progress: bool
+) -> tuple[dict[str, np.ndarray], float]:
+    """Sum of each term per phase bin, divided by the gait cycles executed; and the mean cadence
+    (keyframes per step)."""
+    env = controller.make_env()
+    policy = controller.make_policy(env)
+    sums = {term: np.zeros(bins) for term in TERMS}
+    keyframes = steps = 0.0
+
+    def record(env: gymnasium.Env, obs: Any, action: Any, info: dict[str, Any]) -> None:
+        if action is None:  # the reset
+            return
+        index = int((info["phase"] % 1.0) * bins) % bins
+        for term in TERMS:
+            sums[term][index] += info[term]
+
+    for seed in tqdm(seeds, desc=controller.name, disable=not progress):
+        episode = run_episode(env, policy, seed, callback=record)
+        keyframes += episode.keyframes
+        steps += episode.steps
+    cycles = keyframes / steps_per_cycle(env)
+    env.close()
+    return {term: value / cycles for term, value in sums.items()}, keyframes / steps
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = cli.ArgumentParser(prog="slip_by_phase.py", description=__doc__.splitlines()[0])
+    parser.add_argument("--policy", type=Path, default=DEFAULT_POLICY)
+    parser.add_argument("--episodes", type=cli.int_at_least(1), default=10)
+    parser.add_argument("--seed", type=int, default=0, help="first reset seed")
+    parser.add_argument("--bins", type=cli.int_at_least(1), default=10, help="phase bins per cycle")
+    parser.add_argument(
+        "--env-kwargs",
+        type=cli.key_value,
+        nargs="*",
+        default=[],
+        metavar="KEY:VALUE",
+        help="conditions for both controllers, e.g. friction:0.5 (default: the env's)",
+    )
+    parser.add_argument("--json", type=cli.output_file(".json"))
+    parser.add_argument("--plot", type=cli.output_file(".png"))
+    parser.add_argument("--no-progress-bar", action="store_true")
+    args = parser.parse_args(argv)
+    try:
+        folder = read_policy_folder(args.policy)
+    except ValueError as error:
+        parser.error(f"argument --policy: {error}")
+    try:
+        overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+    except argparse.ArgumentTypeError as error:
+        parser.error(str(error))
+    built, _ = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
+    controllers = {c.name: c for c in built}
+    try:
+        check_env_kwargs(folder.env_id, controllers["policy"].env_kwargs).close()
+    except ValueError as error:
+        parser.error(f"argument --env-kwargs: {error}")
+    if SAME_CADENCE not in controllers:
+        parser.error("argument --policy: the policy does not set the cadence (phase_rate_range)")
+    seeds = [args.seed + i for i in range(args.episodes)]
+    progress = not args.no_progress_bar
+    policy, rate = binned_run(controllers["policy"], seeds, args.bins, progress)
+    gait, _ = binned_run(
+        replace(controllers[SAME_CADENCE], phase_rate=rate), seeds, args.bins, progress
+    )
+
+    print(f"per gait cycle, by the phase a step ends at; open loop at {rate:.3f} keyframes/step")
+    print(f"{'phase':>11} " + " ".join(f"{t + ' pol / gait':>26}" for t in TERMS))
+    for b in range(args.bins):
+        cells = [
+            f"{policy[t][b]:9.4f} {gait[t][b]:9.4f} {policy[t][b] / gait[t][b]:5.2f}x"
+            for t in TERMS
+        ]
+        print(
+            f"{b / args.bins:5.2f}-{(b + 1) / args.bins:4.2f} "
+            + " ".join(f"{c:>26}" for c in cells)
+        )
+    totals = [
+        f"{policy[t].sum():9.4f} {gait[t].sum():9.4f} {policy[t].sum() / gait[t].sum():5.2f}x"
+        for t in TERMS
+    ]
+    print(f"{'cycle':>11} " + " ".join(f"{c:>26}" for c in totals))
+    document = {
+        "policy": str(args.policy),
+        "env_kwargs": overrides,
+        "seeds": seeds,
+        "bins": args.bins,
+        "phase_rate": rate,
+        "note": "per gait cycle executed; bins by the gait phase each step ends at",
+        "policy_per_bin": {t: policy[t].tolist() for t in TERMS},
+        "gait_per_bin": {t: gait[t].tolist() for t in TERMS},
+    }
+    if args.json:
+        write_json(args.json, document)
+    if args.plot:
+        plot(policy, gait, rate, args.plot)
+    return document
+
+
+def plot(
+    policy: dict[str, np.ndarray], gait: dict[str, np.ndarray], rate: float, path: Path
+) -> None:
+    """Slip and climb per phase bin, policy beside its gait at the same cadence."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    bins = len(policy["slip"])
+    centres = (np.arange(bins) + 0.5) / bins
+    width = 0.4 / bins
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    for ax, term, unit in zip(
+        axes, ("slip", "climb"), ("contact slip", "climb of the centre of mass"), strict=True
+    ):
+        ax.bar(centres - width / 2, policy[term], width, label="policy")
+        ax.bar(centres + width / 2, gait[term], width, label=f"its gait, open loop at {rate:.2f}")
+        ax.set_xlabel("gait phase (cycles)")
+        ax.set_ylabel(f"{unit} (m per gait cycle)")
+        ax.set_title(
+            f"{term}: policy {policy[term].sum():.4f}, gait {gait[term].sum():.4f} m/cycle"
+        )
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

@@ -37,6 +37,7 @@ from acl_env.training.runs import write_json
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_GAITS = (
     ROOT / "train" / "configs" / "tuned_gaits.yml",
+    ROOT / "train" / "configs" / "tuned_gaits_cadence2.yml",
     ROOT / "train" / "configs" / "tuned_gaits_acl_energy.yml",
 )
 RECIPE = ROOT / "train" / "configs" / "ppo.yml"
@@ -121,7 +122,10 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     parser = cli.ArgumentParser(prog="cadence_sweep.py", description=__doc__.splitlines()[0])
     parser.add_argument("--tuned-gaits", type=Path, nargs="+", default=DEFAULT_GAITS)
     parser.add_argument(
-        "--rates", type=float, nargs="+", default=[1.0, 1.1, 1.2, 1.3, 1.4, 1.45, 1.5]
+        "--rates",
+        type=float,
+        nargs="+",
+        default=[1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8, 1.9, 2.0],
     )
     parser.add_argument(
         "--reward-weights",

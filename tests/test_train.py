@@ -107,6 +107,8 @@ GAIT_RECIPES = [
     ("ppo.yml", "tuned_gaits.yml", True),  # the shipped recipe: the tuner's objective too
     ("ablations/acl_cadence_tuned_gait.yml", "tuned_gaits.yml", True),
     ("ablations/acl_cadence_tuned_gait_critic.yml", "tuned_gaits.yml", True),
+    ("ablations/acl_slip_weight_3.yml", "tuned_gaits.yml", False),
+    ("ablations/acl_cadence_range_1_5.yml", "tuned_gaits.yml", True),
     ("ablations/acl_energy_gait.yml", "tuned_gaits_acl_energy.yml", True),
     ("ablations/acl_constant_lr.yml", "tuned_gaits_acl_energy.yml", True),
     ("ablations/acl_no_energy_term.yml", "tuned_gaits_acl_energy.yml", False),
@@ -127,38 +129,48 @@ def test_recipe_plays_the_tuned_gait(recipe: str, gaits: str, same_weights: bool
     assert (env_kwargs["reward_weights"] == tuned["reward_weights"]) is same_weights
 
 
-def test_shipped_gait_was_tuned_near_the_policys_cadence_and_is_the_best_open_loop() -> None:
+def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> None:
     """tuned_gaits.yml's "acl" gait, the shipped recipe's base, was tuned for the shipped reward
-    with the env's 220-keyframe cycle played in 152 steps (1.45 keyframes per step, within 5 % of
-    the shipped policy's mean cadence in docs/eval.json), and in docs/cadence_sweep.json it earns
-    more per gait cycle than the cadence-1 study's gait at every cadence swept."""
+    (at 1.45 keyframes per step). A second study of the same reward, tuned at the shipped
+    policy's mean cadence (within 5 %, docs/eval.json), found no better gait there: in
+    docs/cadence_sweep.json the shipped gait earns at least as much per gait cycle at that
+    cadence, within the 95 % interval, and more than the cadence-1 study's gait at every cadence
+    swept."""
     from acl_env.training.evaluate import tuned_gait
 
-    path = TRAIN / "configs" / "tuned_gaits.yml"
-    entry = yaml.safe_load(path.read_text())["acl"]
-    recipe = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", ACL_ID)
-    assert entry["reward_weights"] == recipe["env_kwargs"]["reward_weights"]
+    configs = TRAIN / "configs"
+    entry = yaml.safe_load((configs / "tuned_gaits.yml").read_text())["acl"]
+    at_cadence = yaml.safe_load((configs / "tuned_gaits_cadence2.yml").read_text())["acl"]
+    recipe = config.load_hyperparams(configs / "ppo.yml", ACL_ID)
+    weights = recipe["env_kwargs"]["reward_weights"]
+    assert entry["reward_weights"] == at_cadence["reward_weights"] == weights
     cadence = json.loads((ROOT / "docs" / "eval.json").read_text())["same_cadence_phase_rate"]
     default_cycle = inspect.signature(ACLClimbEnv).parameters["steps_per_cycle"].default
     assert "steps_per_cycle" not in (gymnasium.spec(ACL_ID).kwargs or {})
-    assert default_cycle / entry["steps_per_cycle"] == pytest.approx(cadence, rel=0.05)
-    gait, note = tuned_gait(path, recipe["env_kwargs"]["reward_weights"], non_rolling=False)
+    assert default_cycle / at_cadence["steps_per_cycle"] == pytest.approx(cadence, rel=0.05)
+    gait, note = tuned_gait(configs / "tuned_gaits.yml", weights, non_rolling=False)
     assert gait is not None and "NOT" not in note
     assert gait[1]["gait_kwargs"]["rolls_per_cycle"] == 1
 
     sweep = json.loads((ROOT / "docs" / "cadence_sweep.json").read_text())
     assert sweep["tuned_gaits"] == [
         "train/configs/tuned_gaits.yml",
+        "train/configs/tuned_gaits_cadence2.yml",
         "train/configs/tuned_gaits_acl_energy.yml",
     ]
-    assert sweep["reward_weights"] == recipe["env_kwargs"]["reward_weights"]
-    reward = {
-        (row["gait"], row["rate"]): row["reward_per_gait_cycle"]["mean"] for row in sweep["rows"]
-    }
+    assert sweep["reward_weights"] == weights
+    reward = {(row["gait"], row["rate"]): row["reward_per_gait_cycle"] for row in sweep["rows"]}
     rates = sorted({rate for _, rate in reward})
     assert rates[0] <= 1.0 and rates[-1] >= cadence
     for rate in rates:
-        assert reward[("tuned_gaits", rate)] > reward[("tuned_gaits_acl_energy", rate)], rate
+        shipped, other = reward[("tuned_gaits", rate)], reward[("tuned_gaits_acl_energy", rate)]
+        assert shipped["mean"] > other["mean"], rate
+    nearest = min(rates, key=lambda rate: abs(rate - cadence))
+    shipped, tuned_there = (
+        reward[("tuned_gaits", nearest)],
+        reward[("tuned_gaits_cadence2", nearest)],
+    )
+    assert shipped["mean"] >= tuned_there["mean"] - tuned_there["half_width"]
 
 
 @pytest.mark.parametrize(

@@ -33,6 +33,7 @@ from acl_env.training.evaluate import (
     SAME_CADENCE,
     Controller,
     build_controllers,
+    shown_path,
 )
 from acl_env.training.policy import read_policy_folder
 from acl_env.training.runs import write_json
@@ -124,7 +125,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ]
     print(f"{'cycle':>11} " + " ".join(f"{c:>26}" for c in totals))
     document = {
-        "policy": str(args.policy),
+        "policy": shown_path(args.policy),
         "env_kwargs": overrides,
         "seeds": seeds,
         "bins": args.bins,

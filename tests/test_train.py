@@ -109,6 +109,8 @@ GAIT_RECIPES = [
     ("ablations/acl_cadence_tuned_gait_critic.yml", "tuned_gaits.yml", True),
     ("ablations/acl_slip_weight_3.yml", "tuned_gaits.yml", False),
     ("ablations/acl_cadence_range_1_5.yml", "tuned_gaits.yml", True),
+    ("ablations/acl_gae_lambda_098.yml", "tuned_gaits.yml", True),
+    ("ablations/acl_cadence2_gait.yml", "tuned_gaits_cadence2.yml", True),
     ("ablations/acl_energy_gait.yml", "tuned_gaits_acl_energy.yml", True),
     ("ablations/acl_constant_lr.yml", "tuned_gaits_acl_energy.yml", True),
     ("ablations/acl_no_energy_term.yml", "tuned_gaits_acl_energy.yml", False),

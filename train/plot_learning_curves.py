@@ -59,10 +59,10 @@ def main(argv: list[str] | None = None) -> None:
     # Matplotlib's default cycle repeats after 10 colours; tab20 keeps up to 20 runs apart.
     colours = plt.get_cmap("tab10" if len(data) <= 10 else "tab20").colors
     for ax, (tag, title) in zip(axes, PANELS.items(), strict=True):
-        for (label, curves), colour in zip(data.items(), colours * len(data), strict=False):
+        for i, (label, curves) in enumerate(data.items()):
             if curves[tag]:
                 steps, values = zip(*curves[tag], strict=True)
-                ax.plot(steps, values, label=label, lw=1.2, color=colour)
+                ax.plot(steps, values, label=label, lw=1.2, color=colours[i % len(colours)])
         ax.set_title(title)
         ax.set_xlabel("env steps")
         ax.grid(alpha=0.3)

@@ -7,9 +7,11 @@ Controllers, episode ``i`` of each resetting with seed ``seed + i``
 (:func:`acl_env.training.evaluate.run_controllers`, :func:`acl_env.evaluation.run_episode`):
 
 * ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v1`` with a zero action (the policy's env and
-  its non-training kwargs when ``--policy`` is given, so both run under the same conditions);
+  its non-training kwargs when ``--policy`` is given, its gait included, so both run under the
+  same conditions);
 * ``open_loop_tuned_noroll``: the tuner's non-rolling gait (``acl_noroll`` in
-  ``train/configs/tuned_gaits.yml``) on the same env, when it differs from the registered gait;
+  ``train/configs/tuned_gaits.yml``) on the same env, when it differs from the gait
+  ``open_loop_noroll`` plays;
 * ``policy``: the policy folder (deterministic, VecNormalize frozen), with ``--policy``;
 * ``open_loop_rolling_acl``: the rolling ACL (``acl_env/ACLClimb-v1``), for reference.
 
@@ -62,11 +64,11 @@ def build(
         controllers.append(Controller("policy", env_id, base, str(folder.path)))
     controllers.insert(0, Controller("open_loop_noroll", env_id, base))
     tuned, note = tuned_gait(tuned_path, None, non_rolling=True)
-    registered = gymnasium.spec(env_id).kwargs or {}
+    played = {**(gymnasium.spec(env_id).kwargs or {}), **base}  # the gait open_loop_noroll plays
     if tuned is None:
         notes.append(f"open_loop_tuned_noroll: skipped, {note}")
-    elif all(registered.get(k) == v for k, v in tuned[1].items()):
-        notes.append("open_loop_tuned_noroll: the registered gait is the tuned one")
+    elif all(played.get(k) == v for k, v in tuned[1].items()):
+        notes.append("open_loop_tuned_noroll: open_loop_noroll plays the tuned gait")
     else:
         kwargs = {**base, **tuned[1]}
         controllers.insert(1, Controller("open_loop_tuned_noroll", env_id, kwargs))

@@ -125,6 +125,39 @@ def test_evaluation_judges_the_noroll_policy_on_its_own_env(tmp_path) -> None:
     assert results["open_loop_rolling_helix"][0].metrics()["touched_arc_deg"] > 270.0
 
 
+def test_noroll_policy_on_another_gait_meets_that_gait_and_the_tuned_one(tmp_path) -> None:
+    """A non-rolling policy trained on a gait other than the tuned one (no cadence action) is
+    judged against its own gait open loop as well as the tuned and registered gaits; on the tuned
+    gait itself the two would be one, and its own-gait controller is skipped with a note."""
+    from acl_env.training.evaluate import POLICY_GAIT, build_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    weights = NOROLL_KWARGS["reward_weights"]
+    gait = {"rolls_per_cycle": 0, "amp_pitch": 0.04, "amp_radial": 0.015, "pitch": 0.13}
+    trained = {**SHORT, "squeeze": 0.006, "gait_kwargs": gait, "reward_weights": weights}
+    trained["domain_randomization"] = True
+    folder = PolicyFolder(
+        tmp_path, ACL_CLIMB_NOROLL_ID, {"env_kwargs": trained}, tmp_path / "m.zip", None
+    )
+    controllers, notes = build_controllers(folder, {}, None, TUNED_GAITS)
+    by_name = {c.name: c for c in controllers}
+    own = by_name[POLICY_GAIT]
+    assert own.env_id == ACL_CLIMB_NOROLL_ID and own.policy_dir is None
+    assert own.env_kwargs["gait_kwargs"] == gait and own.env_kwargs["squeeze"] == 0.006
+    assert "domain_randomization" not in own.env_kwargs
+    tuned = yaml.safe_load(TUNED_GAITS.read_text())["acl_noroll"]["env_kwargs"]
+    assert by_name["open_loop_tuned"].env_kwargs["gait_kwargs"] == tuned["gait_kwargs"], notes
+    assert "gait_kwargs" not in by_name["open_loop_acl"].env_kwargs  # the registered gait
+
+    on_tuned = {**trained, **tuned}
+    folder = PolicyFolder(
+        tmp_path, ACL_CLIMB_NOROLL_ID, {"env_kwargs": on_tuned}, tmp_path / "m.zip", None
+    )
+    controllers, notes = build_controllers(folder, {}, None, TUNED_GAITS)
+    assert POLICY_GAIT not in {c.name for c in controllers}
+    assert any(note.startswith(POLICY_GAIT) for note in notes)
+
+
 def test_ppo_config_entry_builds_the_noroll_env() -> None:
     """train/configs/ppo.yml's entry: the registered weights, initial joint noise <= 0.03 rad, no
     cadence action; its env kwargs build the env."""

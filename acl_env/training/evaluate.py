@@ -13,6 +13,10 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 * ``open_loop_tuned_same_cadence``: only when the policy sets the cadence on a gait other than the
   tuned one: the tuned gait at the policy's mean phase rate, the best open loop at the same
   cadence (for a policy on the tuned gait this is ``open_loop_acl_same_cadence`` already);
+* ``open_loop_policy_gait``: only when the policy does not set the cadence and was trained on a
+  reshaped gait (``gait_kwargs`` or ``squeeze``) other than the tuned one: that gait played open
+  loop, so what the residual adds to its own gait shows (a non-rolling policy on the gait tuned
+  for climb is judged against that gait, the best open loop for climb);
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
@@ -80,6 +84,7 @@ GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze")
 # Kwargs that only shape the policy's action: the open loops play a zero action without them.
 POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections")
 SAME_CADENCE = "open_loop_acl_same_cadence"
+POLICY_GAIT = "open_loop_policy_gait"
 TUNED_SAME_CADENCE = "open_loop_tuned_same_cadence"
 AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE)  # run after the policy, at its rate
 
@@ -290,6 +295,12 @@ def build_controllers(
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
     tuned, note = tuned_gait(tuned_path, base.get("reward_weights"), non_rolling)
+    reshaped = any(k in open_loop for k in GAIT_KWARGS)
+    if folder is not None and reshaped and not sets_cadence:
+        if tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items()):
+            notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
+        else:  # the policy's own gait, zero action: what the residual adds to it
+            controllers.append(Controller(POLICY_GAIT, folder.env_id, open_loop))
     if tuned is None:
         notes.append(f"open_loop_tuned: skipped, {note}")
     else:

@@ -197,6 +197,9 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
 # Ablations that train with another slip weight than the shipped recipe's 2 (reward shaping); the
 # README evaluates them under the shipped weights, against the open loop tuned for those.
 SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
+# Non-rolling runs whose objective is the climb (slip 0), on the gait tuned for climb
+# (tuned_gaits_noroll_climb.yml); the roll term stays.
+NOROLL_CLIMB_OBJECTIVE = ("noroll_climb_gait.yml", "noroll_climb_gait_std037.yml")
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))
@@ -210,7 +213,14 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
     env_kwargs = {**hyperparams["env_kwargs"], **SHORT}
     check_env_kwargs(env_id, env_kwargs).close()
     weights = hyperparams["env_kwargs"]["reward_weights"]
-    if env_id == ACL_CLIMB_NOROLL_ID:  # the task's registered weights, the tuner's objective
+    if path.name in NOROLL_CLIMB_OBJECTIVE:  # the climb study's gait and objective
+        climb = yaml.safe_load((TRAIN / "configs" / "tuned_gaits_noroll_climb.yml").read_text())
+        entry = climb["acl_noroll_climb"]
+        assert entry["objective"] == "climb_per_gait_cycle_m"
+        for key in ("squeeze", "gait_kwargs"):
+            assert hyperparams["env_kwargs"][key] == entry["env_kwargs"][key]
+        assert weights == {**NOROLL_KWARGS["reward_weights"], "slip": 0.0}
+    elif env_id == ACL_CLIMB_NOROLL_ID:  # the task's registered weights, the tuner's objective
         assert weights == NOROLL_KWARGS["reward_weights"]
     else:  # the shipped recipe's weights, or a shaping ablation's (evaluated under the shipped)
         assert weights["slip"] == SHAPED_SLIP_WEIGHT.get(path.name, 2.0)

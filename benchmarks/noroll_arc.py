@@ -63,8 +63,8 @@ def build(
         base = {**trained, **overrides}
         controllers.append(Controller("policy", env_id, base, str(folder.path)))
     controllers.insert(0, Controller("open_loop_noroll", env_id, base))
-    tuned, note = tuned_gait(tuned_path, None, non_rolling=True)
-    played = {**(gymnasium.spec(env_id).kwargs or {}), **base}  # the gait open_loop_noroll plays
+    played = {**(gymnasium.spec(env_id).kwargs or {}), **base}  # what open_loop_noroll plays
+    tuned, note = tuned_gait(tuned_path, played.get("reward_weights"), non_rolling=True)
     if tuned is None:
         notes.append(f"open_loop_tuned_noroll: skipped, {note}")
     elif all(played.get(k) == v for k, v in tuned[1].items()):

@@ -6,7 +6,8 @@
 helix, tuned gait from ``--tuned-gaits``; same seeds for all) at the
 corners and centre of the training ranges of pole radius and friction, or with ``--held-out`` under
 conditions outside the training ranges (``HELD_OUT``), and prints the climb per gait cycle, slip
-per metre, largest touched arc and falls of each.
+per metre, largest touched arc, falls and (in the JSON) episodes ended by rolling and mean
+episode length of each.
 """
 
 from __future__ import annotations
@@ -93,10 +94,15 @@ def main(argv: list[str] | None = None) -> list[dict]:
             summary = summarize(episodes)
             row[name] = {column: summary[column]["mean"] for column in COLUMNS}
             row[name]["falls"] = summary["falls"]["count"]
+            row[name]["rolled"] = summary["rolled"]
+            row[name]["mean_steps"] = sum(e.steps for e in episodes) / len(episodes)
         if not rows:
             names = list(results)
             print("\n".join(note for note in notes if "skipped" in note))
-            print("cells: climb per gait cycle (m) / slip per metre / largest touched arc / falls")
+            print(
+                "cells: climb per gait cycle (m) / slip per metre / largest touched arc / falls"
+                " (and episodes ended by rolling past roll_limit, when any)"
+            )
             print("| condition | " + " | ".join(names) + " |")
             print("|---" * (1 + len(names)) + "|")
         rows.append(row)
@@ -112,9 +118,10 @@ def _format(row: dict, names: list[str]) -> str:
     cells = [f"| {row['condition']}"]
     for name in names:
         r = row[name]
+        rolled = f" ({r['rolled']} rolled)" if r.get("rolled") else ""
         cells.append(
             f"{r['climb_per_gait_cycle_m']:.3f} / {r['slip_per_m']:.2f} / "
-            f"{r['touched_arc_deg']:.0f} / {r['falls']}"
+            f"{r['touched_arc_deg']:.0f} / {r['falls']}{rolled}"
         )
     return " | ".join(cells) + " |"
 

@@ -159,8 +159,8 @@ def test_noroll_policy_on_another_gait_meets_that_gait_and_the_tuned_one(tmp_pat
 
 
 def test_ppo_config_entry_builds_the_noroll_env() -> None:
-    """train/configs/ppo.yml's entry: the registered weights, initial joint noise <= 0.03 rad, no
-    cadence action; its env kwargs build the env."""
+    """train/configs/ppo.yml's entry: the registered roll weight (the climb as objective, slip 0),
+    initial joint noise <= 0.03 rad, no cadence action; its env kwargs build the env."""
     import math
     from pathlib import Path
 
@@ -170,7 +170,7 @@ def test_ppo_config_entry_builds_the_noroll_env() -> None:
     hyperparams = config.load_hyperparams(path, ACL_CLIMB_NOROLL_ID)
     kwargs = config.algo_kwargs(hyperparams)
     env_kwargs = hyperparams["env_kwargs"]
-    assert env_kwargs["reward_weights"] == NOROLL_KWARGS["reward_weights"]
+    assert env_kwargs["reward_weights"] == {**NOROLL_KWARGS["reward_weights"], "slip": 0.0}
     assert math.exp(kwargs["policy_kwargs"]["log_std_init"]) * env_kwargs["residual_scale"] <= 0.03
     assert "phase_rate_range" not in env_kwargs
     env = gym.make(ACL_CLIMB_NOROLL_ID, **env_kwargs, **SHORT)
@@ -209,3 +209,28 @@ def test_registered_gait_is_the_tuners_noroll_entry() -> None:
     assert NOROLL_KWARGS["squeeze"] == tuned["env_kwargs"]["squeeze"]
     assert NOROLL_KWARGS["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
     assert NOROLL_KWARGS["reward_weights"] == tuned["reward_weights"]
+
+
+def test_tuned_key_picks_another_entry_and_a_missing_one_is_refused(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """--tuned-key plays another tuned gait as open_loop_tuned (here the climb study's, for the
+    shipped non-rolling policy); a key the file lacks stops evaluation before any episode."""
+    from acl_env.training import evaluate
+    from acl_env.training.policy import read_policy_folder
+
+    configs = TUNED_GAITS.parent
+    policy = configs.parent / "policies" / "acl_climb_noroll_ppo"
+    climb = yaml.safe_load((configs / "tuned_gaits_noroll_climb.yml").read_text())
+    folder = read_policy_folder(policy)
+    controllers, notes = evaluate.build_controllers(
+        folder, {}, None, configs / "tuned_gaits_noroll_climb.yml", "acl_noroll_climb"
+    )
+    tuned = {c.name: c for c in controllers}["open_loop_tuned"]
+    assert tuned.env_id == ACL_CLIMB_NOROLL_ID
+    assert tuned.env_kwargs["gait_kwargs"] == climb["acl_noroll_climb"]["env_kwargs"]["gait_kwargs"]
+    assert any("'acl_noroll_climb'" in note for note in notes)
+    with pytest.raises(SystemExit) as exit_info:
+        evaluate.main(["--policy", str(policy), "--tuned-key", "no_such_entry"])
+    assert exit_info.value.code == 2
+    assert "--tuned-key" in capsys.readouterr().err

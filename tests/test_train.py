@@ -198,8 +198,8 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
 # README evaluates them under the shipped weights, against the open loop tuned for those.
 SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
 # Non-rolling runs whose objective is the climb (slip 0), on the gait tuned for climb
-# (tuned_gaits_noroll_climb.yml); the roll term stays.
-NOROLL_CLIMB_OBJECTIVE = ("noroll_climb_gait.yml", "noroll_climb_gait_std037.yml")
+# (tuned_gaits_noroll_climb.yml), as ppo.yml's shipped non-rolling recipe; the roll term stays.
+NOROLL_CLIMB_OBJECTIVE = ("ppo.yml", "ablations/noroll_climb_gait.yml")
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))
@@ -213,17 +213,30 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
     env_kwargs = {**hyperparams["env_kwargs"], **SHORT}
     check_env_kwargs(env_id, env_kwargs).close()
     weights = hyperparams["env_kwargs"]["reward_weights"]
-    if path.name in NOROLL_CLIMB_OBJECTIVE:  # the climb study's gait and objective
-        climb = yaml.safe_load((TRAIN / "configs" / "tuned_gaits_noroll_climb.yml").read_text())
-        entry = climb["acl_noroll_climb"]
-        assert entry["objective"] == "climb_per_gait_cycle_m"
-        for key in ("squeeze", "gait_kwargs"):
-            assert hyperparams["env_kwargs"][key] == entry["env_kwargs"][key]
-        assert weights == {**NOROLL_KWARGS["reward_weights"], "slip": 0.0}
+    if f"ablations/{path.name}" in NOROLL_CLIMB_OBJECTIVE:  # checked by the test below
+        assert weights["slip"] == 0.0
     elif env_id == ACL_CLIMB_NOROLL_ID:  # the task's registered weights, the tuner's objective
         assert weights == NOROLL_KWARGS["reward_weights"]
     else:  # the shipped recipe's weights, or a shaping ablation's (evaluated under the shipped)
         assert weights["slip"] == SHAPED_SLIP_WEIGHT.get(path.name, 2.0)
+
+
+@pytest.mark.parametrize("recipe", NOROLL_CLIMB_OBJECTIVE)
+def test_noroll_climb_recipe_plays_the_climb_studys_gait(recipe: str) -> None:
+    """The shipped non-rolling recipe (and its ablation) start from the gait the climb study
+    found, and train for that study's objective, the climb (slip weight 0; the registered roll
+    term kept), so its open loop is the best gait for the same objective."""
+    hyperparams = config.load_hyperparams(TRAIN / "configs" / recipe, ACL_CLIMB_NOROLL_ID)
+    climb = yaml.safe_load((TRAIN / "configs" / "tuned_gaits_noroll_climb.yml").read_text())
+    entry = climb["acl_noroll_climb"]
+    assert entry["objective"] == "climb_per_gait_cycle_m"
+    assert entry["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 0
+    for key in ("squeeze", "gait_kwargs"):
+        assert hyperparams["env_kwargs"][key] == entry["env_kwargs"][key]
+    assert hyperparams["env_kwargs"]["reward_weights"] == {
+        **NOROLL_KWARGS["reward_weights"],
+        "slip": 0.0,
+    }
 
 
 def test_linear_schedule_decays_to_zero() -> None:

@@ -224,12 +224,13 @@ class TunedGaitsError(ValueError):
 
 
 def tuned_gait(
-    path: Path, reward_weights: dict[str, float] | None, non_rolling: bool
+    path: Path, reward_weights: dict[str, float] | None, non_rolling: bool, key: str | None = None
 ) -> tuple[tuple[str, dict[str, Any]] | None, str]:
     """``(env_id, env_kwargs)`` of the tuned open-loop gait (``train/configs/tuned_gaits.yml``,
-    written by ``train/tune_gait.py``; entry ``acl`` or ``acl_noroll``), and a note that says
-    which, or why there is none (``None``). A malformed file raises :class:`TunedGaitsError`."""
-    key = TUNED_KEYS[non_rolling]
+    written by ``train/tune_gait.py``; entry ``key``, by default ``acl`` or ``acl_noroll``), and a
+    note that says which, or why there is none (``None``). A malformed file raises
+    :class:`TunedGaitsError`."""
+    key = key or TUNED_KEYS[non_rolling]
     shown = shown_path(path)
     if not path.is_file():
         return None, f"{shown} does not exist (run train/tune_gait.py)"
@@ -257,8 +258,10 @@ def build_controllers(
     overrides: dict[str, Any],
     reward_weights: dict[str, float] | None,
     tuned_path: Path,
+    tuned_key: str | None = None,
 ) -> tuple[list[Controller], list[str]]:
-    """The controllers to compare, all under the same conditions, and notes on any skipped."""
+    """The controllers to compare, all under the same conditions, and notes on any skipped
+    (``tuned_key``: the tuned-gaits entry, by default ``acl`` or ``acl_noroll``)."""
     base: dict[str, Any] = {}
     acl_id = ACL_CLIMB_ID
     if folder is not None:
@@ -294,7 +297,7 @@ def build_controllers(
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
-    tuned, note = tuned_gait(tuned_path, base.get("reward_weights"), non_rolling)
+    tuned, note = tuned_gait(tuned_path, base.get("reward_weights"), non_rolling, tuned_key)
     reshaped = any(k in open_loop for k in GAIT_KWARGS)
     if folder is not None and reshaped and not sets_cadence:
         if tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items()):
@@ -425,6 +428,11 @@ def make_parser() -> cli.ArgumentParser:
         default=DEFAULT_TUNED_GAITS,
         help="tuned open-loop gaits (written by train/tune_gait.py)",
     )
+    parser.add_argument(
+        "--tuned-key",
+        help="entry of --tuned-gaits to play as open_loop_tuned (default: acl, or acl_noroll for "
+        "a non-rolling policy)",
+    )
     parser.add_argument("--json", type=cli.output_file(), help="write the summaries here")
     parser.add_argument(
         "--plot",
@@ -485,9 +493,14 @@ def _checked_controllers(
         except ValueError as error:
             parser.error(f"argument --policy: {error}")
     try:
-        controllers, notes = build_controllers(folder, overrides, weights, args.tuned_gaits)
+        controllers, notes = build_controllers(
+            folder, overrides, weights, args.tuned_gaits, args.tuned_key
+        )
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
+    if args.tuned_key is not None and not any(c.name == "open_loop_tuned" for c in controllers):
+        skipped = [note for note in notes if note.startswith("open_loop_tuned: skipped")]
+        parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
     if weights is not None:
         try:
             check_reward_weights(weights)

@@ -298,9 +298,11 @@ def build_controllers(
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
     tuned, note = tuned_gait(tuned_path, base.get("reward_weights"), non_rolling, tuned_key)
+    # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
+    on_tuned = tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items())
     reshaped = any(k in open_loop for k in GAIT_KWARGS)
     if folder is not None and reshaped and not sets_cadence:
-        if tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items()):
+        if on_tuned:
             notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
         else:  # the policy's own gait, zero action: what the residual adds to it
             controllers.append(Controller(POLICY_GAIT, folder.env_id, open_loop))
@@ -316,7 +318,7 @@ def build_controllers(
         controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
         notes.append(f"open_loop_tuned: {note}")
         if sets_cadence:
-            if all(open_loop.get(k) == v for k, v in tuned_kwargs.items()):
+            if on_tuned:
                 notes.append(f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one")
             else:  # the best open loop at the policy's cadence
                 controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))

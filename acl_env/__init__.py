@@ -4,7 +4,7 @@ Importing the package registers the Gymnasium environments:
 
 * ``acl_env/ACLClimb-v1``: residual control on top of the ACL gait (Eq. 1-5).
 * ``acl_env/RollingHelixClimb-v1``: residual control on top of the rolling helix.
-* ``acl_env/ACLClimbNoRoll-v1``: the non-rolling task: the ACL gait with ``rolls_per_cycle=0``,
+* ``acl_env/ACLClimbNoRoll-v2``: the non-rolling task: the ACL gait with ``rolls_per_cycle=0``,
   a penalty on the body's measured roll and a termination when a module has rolled too far
   (``ACLClimbEnv``'s reference card, "Non-rolling task").
 """
@@ -16,7 +16,7 @@ __all__ = ["ACL_CLIMB_ID", "ACL_CLIMB_NOROLL_ID", "ROLLING_HELIX_CLIMB_ID"]
 
 ACL_CLIMB_ID = "acl_env/ACLClimb-v1"
 ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v1"
-ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRoll-v1"
+ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRoll-v2"
 
 # The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
 # the open-loop tuner's best for this task's reward (train/configs/tuned_gaits.yml, "acl_noroll",

@@ -6,7 +6,7 @@
 Controllers, episode ``i`` of each resetting with seed ``seed + i``
 (:func:`acl_env.training.evaluate.run_controllers`, :func:`acl_env.evaluation.run_episode`):
 
-* ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v1`` with a zero action (the policy's env and
+* ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v2`` with a zero action (the policy's env and
   its non-training kwargs when ``--policy`` is given, its gait included, so both run under the
   same conditions);
 * ``open_loop_tuned_noroll``: the tuner's non-rolling gait (``acl_noroll`` in

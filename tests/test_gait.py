@@ -10,10 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from acl_env import NOROLL_KWARGS
 from acl_env.gait import ACLGait, Gait, RollingHelixGait
 from acl_env.gait.__main__ import main
-from acl_env.gait.curves import bellows_integrals, sample_curve
-from acl_env.gait.gaits import ROLL_SIGN
+from acl_env.gait.curves import bellows_integrals, sample_curve, twist_mismatch
+from acl_env.gait.gaits import ROLL_SIGN, helix_radius
 from acl_env.gait.kinematics import backbone_fit_rms, surface_roll_angles
 
 FK_RMS_MAX = 0.015  # m, issue 2: the chain fits the backbone within 1.5 cm rms
@@ -160,6 +161,62 @@ def test_non_rolling_acl_holds_its_roll_within_the_cycle(amp_pitch: float) -> No
     )
     drift = np.angle(np.mean(np.exp(1j * (rolls - rolls[0])), axis=1))  # circular mean per keyframe
     assert np.abs(drift).max() < STILL_ROLL_TOL
+
+
+# --- thin poles: where the curve nearly straightens -----------------------------------------
+
+# The registered non-rolling gait and the climb study's larger waves (train/configs), whose
+# quadrature of tau fails on thin poles (docs/gait.md#thin-poles).
+NOROLL_GAITS = {
+    "registered": (NOROLL_KWARGS["gait_kwargs"], NOROLL_KWARGS["squeeze"]),
+    "climb": (
+        {"amp_pitch": 0.0421, "amp_radial": 0.0150, "pitch": 0.1362, "rolls_per_cycle": 0},
+        0.0066,
+    ),
+}
+
+
+def thin_pole_gait(name: str, pole_radius: float, **kwargs) -> ACLGait:
+    gait_kwargs, squeeze = NOROLL_GAITS[name]
+    return ACLGait(radius=helix_radius(pole_radius, squeeze), **gait_kwargs, **kwargs)
+
+
+def largest_step(table: np.ndarray) -> float:
+    """Largest change of any joint between consecutive keyframes, closing the cycle (rad)."""
+    return float(np.abs(np.diff(table, axis=0, append=table[:1])).max())
+
+
+@pytest.mark.parametrize("name", sorted(NOROLL_GAITS))
+@pytest.mark.parametrize("pole_radius", [0.05, 0.055, 0.06, 0.065])
+def test_gait_table_is_continuous_on_thin_poles(name: str, pole_radius: float) -> None:
+    """Twice the keyframes halve the largest step of a continuous table; a jump would stay. The
+    quadrature of tau alone jumped by up to 180 deg here (a joint from -90 to +90 deg)."""
+    coarse = thin_pole_gait(name, pole_radius, steps_per_cycle=40)
+    fine = thin_pole_gait(name, pole_radius, steps_per_cycle=80)
+    assert coarse.transport_twist and fine.transport_twist
+    assert largest_step(coarse.cycle()) < math.radians(25.0)
+    assert largest_step(fine.cycle()) < 0.6 * largest_step(coarse.cycle())
+
+
+def test_thin_pole_table_converges_with_the_grid() -> None:
+    """The measured turns are third order: 300 grid points are within 0.5 deg of 1000."""
+    coarse = thin_pole_gait("climb", 0.055, steps_per_cycle=40, n_samples=300)
+    fine = thin_pole_gait("climb", 0.055, steps_per_cycle=40, n_samples=1000)
+    np.testing.assert_allclose(coarse.cycle(), fine.cycle(), atol=math.radians(0.5))
+
+
+def test_resolved_gaits_keep_the_quadrature_and_agree_with_the_turns() -> None:
+    """Where the grid resolves tau (every default gait) the table comes from the quadrature,
+    unchanged; the measured turns give the same twist there within 1e-3 rad."""
+    gait = ACLGait()
+    assert not gait.transport_twist
+    phases = np.arange(gait.steps_per_cycle) / gait.steps_per_cycle
+    samples = sample_curve(gait.curve, phases, gait.body_length, gait.n_samples)
+    np.testing.assert_array_equal(samples.twist, samples.twist_quadrature)
+    transported = sample_curve(gait.curve, phases, gait.body_length, gait.n_samples, True)
+    np.testing.assert_allclose(transported.twist, samples.twist, atol=1e-3)
+    assert twist_mismatch(samples) < 1e-3
+    assert twist_mismatch(thin_pole_gait("registered", 0.055)._samples(phases)) > 0.05
 
 
 # --- validation -------------------------------------------------------------------------------

@@ -234,3 +234,19 @@ def test_tuned_key_picks_another_entry_and_a_missing_one_is_refused(
         evaluate.main(["--policy", str(policy), "--tuned-key", "no_such_entry"])
     assert exit_info.value.code == 2
     assert "--tuned-key" in capsys.readouterr().err
+
+
+CLIMB_GAITS = TUNED_GAITS.with_name("tuned_gaits_noroll_climb.yml")
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_climb_gait_holds_the_thinnest_training_pole(seed: int) -> None:
+    """On the 0.065 m pole (the low end of the training randomisation) the climb study's gait
+    used to roll past the limit in its second step: its keyframe table jumped by 64 deg where the
+    quadrature of tau failed (docs/gait.md#thin-poles). It now holds the pole for a cycle."""
+    entry = yaml.safe_load(CLIMB_GAITS.read_text())["acl_noroll_climb"]
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **entry["env_kwargs"], pole_radius=0.065, **SHORT)
+    info, steps = last_info(env, seed)
+    assert steps == 2 * SHORT["steps_per_cycle"]
+    assert not info["rolled"] and not info["fell"]
+    assert info["roll_span_deg"] < NOROLL_KWARGS["roll_limit"]

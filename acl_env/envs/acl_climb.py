@@ -191,7 +191,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     step's reward terms are then 0); or, with ``roll_limit`` set, when the body *rolled*: some
     module's roll swept more than ``roll_limit`` degrees (``info["rolled"]``).
 
-    ## Non-rolling task (``acl_env/ACLClimbNoRoll-v1``)
+    ## Non-rolling task (``acl_env/ACLClimbNoRoll-v2``)
     The paper's future work: climb without rolling, so that sensors can sit on the part of each
     module's skin that never touches the pole. Registered with ``acl_env.NOROLL_KWARGS``:
 
@@ -204,8 +204,9 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
       without the roll. Open loop (2 cycles, seeds 0-1): 4.1-4.2 cm per cycle, slip 3.3 cm per
       cycle, roll swept <= 39 deg, touched arc <= 40 deg, 0.000-0.001 turns per cycle (the
       rolling ACL: 19.8 cm and -1.0 turn per cycle, 730 deg swept, 360 deg touched). It sits near
-      a cliff: on poles of 0.065-0.0675 m radius (inside the training randomisation) it rolls
-      past ``roll_limit`` within 1-2 cycles, at 0.07 m it climbs 3.5-4.0 cm and touches 60 deg.
+      a cliff: on the 0.065 m pole (inside the training randomisation) it rolls past
+      ``roll_limit`` within two cycles, and it loses the 0.055 m pole within four steps (30 % of
+      its joint commands clipped at +-90 deg there).
     * reward weights ``{"climb": 1, "slip": 0.25, "roll": 0.05}``. Climbing by rolling is worth
       ~0.2 m per turn (the rolling ACL), so rolling pays only while ``w_roll`` is below
       0.2 / (2 pi) = 0.03 per rad; 0.05 makes every turn cost more than it climbs. The open loop
@@ -224,8 +225,12 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``train/configs/tuned_gaits_noroll_climb.yml``: ``squeeze`` 0.66 cm, ``amp_pitch`` 4.21 cm,
     ``amp_radial`` 1.50 cm, ``pitch`` 13.6 cm; 6.6 cm per cycle and 2.1 m of slip per metre at
     the default pole, touched arc 62 deg), trained for the climb itself (``slip`` weight 0, the
-    roll term and limit kept), the issue's metric. That gait cannot hold poles thinner than
-    0.07 m: there it loses the pole within the first steps.
+    roll term and limit kept), the issue's metric. It holds the 0.065 and 0.055 m poles open loop
+    (3.7 cm per cycle; 1 of 4 episodes rolled on the thinner one).
+
+    v2 replaces v1: the non-rolling gaits' keyframe tables jumped by up to 180 deg on thin poles,
+    where the quadrature of the curve's torsion failed (docs/gait.md#thin-poles); the snake then
+    rolled off in its first steps. The registered gait's table is unchanged from 0.075 m up.
 
     ## Copies
     ``pickle`` and ``copy.deepcopy`` of the env, taken at any point of an episode, continue

@@ -54,7 +54,7 @@ REWARD_TERMS: dict[str, Callable[[StepMeasures], float]] = {
     "roll": roll_term,
     "energy": energy_term,
 }
-# roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v1), where rolling is what
+# roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v2), where rolling is what
 # the task forbids; energy 0: off unless a recipe asks for it. With both at weight 0 the reward
 # equals climb and slip's to the bit.
 DEFAULT_REWARD_WEIGHTS: dict[str, float] = {"climb": 1.0, "slip": 1.0, "roll": 0.0, "energy": 0.0}

@@ -8,6 +8,7 @@ Everything is vectorised over a batch of phases, so a whole gait cycle costs one
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,13 +72,15 @@ class CurveSamples:
     s: np.ndarray  # (K, M) arc length from t = 0
     kappa: np.ndarray  # (K, M)
     tau: np.ndarray  # (K, M)
-    twist: np.ndarray  # (K, M) cumulative int_0^s tau ds
+    twist: np.ndarray  # (K, M) cumulative int_0^s tau ds, as the gait uses it
     speed: np.ndarray  # (K, M) ds/dt
     dt: float  # grid step of t
+    twist_quadrature: np.ndarray  # (K, M) the same by quadrature of tau
+    turns: np.ndarray  # (K, M - 1) the Frenet normal's turn over each interval (normal_turns)
 
 
-def _cumint(y: np.ndarray, dt: float) -> np.ndarray:
-    """Cumulative integral along the last axis on a uniform grid of step ``dt``, starting at 0.
+def _increments(y: np.ndarray, dt: float) -> np.ndarray:
+    """Integral of ``y`` over each interval of a uniform grid of step ``dt`` (last axis).
 
     Each interval uses the three-point rule h/12 (5 y_i + 8 y_i+1 - y_i+2) (the last one its
     mirror), third-order accurate: a coarse grid then meets 1e-4 rad on the joint angles.
@@ -86,15 +89,74 @@ def _cumint(y: np.ndarray, dt: float) -> np.ndarray:
     inc[..., :-1] = 5.0 * y[..., :-2] + 8.0 * y[..., 1:-1] - y[..., 2:]
     inc[..., -1] = -y[..., -3] + 8.0 * y[..., -2] + 5.0 * y[..., -1]
     inc *= dt / 12.0
-    return np.concatenate([np.zeros((*y.shape[:-1], 1)), np.cumsum(inc, axis=-1)], axis=-1)
+    return inc
+
+
+def _cumsum0(inc: np.ndarray) -> np.ndarray:
+    """Running sum of interval increments along the last axis, starting at 0."""
+    return np.concatenate([np.zeros((*inc.shape[:-1], 1)), np.cumsum(inc, axis=-1)], axis=-1)
+
+
+def _cumint(y: np.ndarray, dt: float) -> np.ndarray:
+    """Cumulative integral along the last axis on a uniform grid of step ``dt``, starting at 0
+    (the three-point rule of :func:`_increments`)."""
+    return _cumsum0(_increments(y, dt))
+
+
+# rad: the largest gap, over one grid interval, between the quadrature of tau and the Frenet
+# normal's measured turn that still counts as agreement (twist_mismatch).
+TWIST_MISMATCH = 0.05
+
+
+def normal_turns(
+    tangent: np.ndarray, normal: np.ndarray, kappa2_tau: np.ndarray, s: np.ndarray
+) -> np.ndarray:
+    """How far the Frenet normal turns about the tangent over each grid interval (rad).
+
+    The normal at one sample is carried to the next by the smallest rotation between the two
+    tangents, and the angle from it to the next normal is measured. Adding the area between the
+    tangent's path on the unit sphere and that shortest path, ``-h^3 kappa^2 tau / 12``, makes
+    it the parallel transport to third order (the measured angle alone is second order). Unlike
+    the quadrature of tau it holds where the curve nearly straightens (kappa -> 0): there tau
+    spikes too narrowly for any grid while the normal swings through half a turn
+    (docs/gait.md#thin-poles). ``kappa2_tau`` is ``kappa^2 tau``, smooth where tau is not.
+    """
+    a, b = tangent[..., :-1, :], tangent[..., 1:, :]
+    n0, n1 = normal[..., :-1, :], normal[..., 1:, :]
+    ab = a + b
+    dot = np.sum(a * b, axis=-1, keepdims=True)
+    moved = n0 - np.sum(ab * n0, axis=-1, keepdims=True) / (1.0 + dot) * ab
+    moved += 2.0 * np.sum(a * n0, axis=-1, keepdims=True) * b
+    turn = np.arctan2(np.sum(np.cross(moved, n1) * b, axis=-1), np.sum(moved * n1, axis=-1))
+    h = np.diff(s, axis=-1)
+    return turn - h**3 / 24.0 * (kappa2_tau[..., :-1] + kappa2_tau[..., 1:])
+
+
+def twist_mismatch(samples: CurveSamples) -> float:
+    """Largest gap (rad, modulo 2 pi) between the quadrature of tau and the normal's measured
+    turn over one grid interval: near 0 where the grid resolves tau, large where it does not."""
+    quad = np.diff(samples.twist_quadrature, axis=-1)
+    gap = (quad - samples.turns + np.pi) % (2.0 * np.pi) - np.pi
+    return float(np.abs(gap).max())
+
+
+def transported(samples: CurveSamples) -> CurveSamples:
+    """The same samples with the twist summed from the normal's measured turns."""
+    return dataclasses.replace(samples, twist=_cumsum0(samples.turns))
 
 
 def sample_curve(
-    curve: PitchVaryingHelix, phases: np.ndarray, length: float, n_samples: int = 2400
+    curve: PitchVaryingHelix,
+    phases: np.ndarray,
+    length: float,
+    n_samples: int = 2400,
+    transport: bool = False,
 ) -> CurveSamples:
     """Sample ``curve`` from ``t = 0`` over at least ``length`` metres of arc, for each phase.
 
-    Frenet quantities: kappa = |C' x C''| / |C'|^3, tau = (C' x C'') . C''' / |C' x C''|^2.
+    Frenet quantities: kappa = |C' x C''| / |C'|^3, tau = (C' x C'') . C''' / |C' x C''|^2. The
+    twist ``int tau ds`` is the quadrature of tau, or with ``transport`` the sum of the normal's
+    measured turns (:func:`normal_turns`), for curves whose tau the grid cannot resolve.
     """
     phases = np.atleast_1d(np.asarray(phases, dtype=float))
     # |C'| >= r - A_r around the pole, so this t range always covers `length` of arc.
@@ -103,15 +165,18 @@ def sample_curve(
     c0, c1, c2, c3 = curve.derivatives(t, phases)
     cross = np.cross(c1, c2)
     cross_sq = np.sum(cross**2, axis=-1)
+    triple = np.sum(cross * c3, axis=-1)
     speed = np.linalg.norm(c1, axis=-1)
     kappa = np.sqrt(cross_sq) / speed**3
-    tau = np.sum(cross * c3, axis=-1) / np.maximum(cross_sq, 1e-300)
+    tau = triple / np.maximum(cross_sq, 1e-300)
     dt = t[1] - t[0]
     s = _cumint(speed, dt)
     tangent = c1 / speed[..., None]
     binormal = cross / np.sqrt(np.maximum(cross_sq, 1e-300))[..., None]
     normal = np.cross(binormal, tangent)
-    return CurveSamples(
+    quadrature = _cumint(tau * speed, dt)
+    turns = normal_turns(tangent, normal, triple / speed**6, s)
+    samples = CurveSamples(
         t=t,
         points=c0,
         tangent=tangent,
@@ -119,10 +184,13 @@ def sample_curve(
         s=s,
         kappa=kappa,
         tau=tau,
-        twist=_cumint(tau * speed, dt),
+        twist=quadrature,
         speed=speed,
         dt=dt,
+        twist_quadrature=quadrature,
+        turns=turns,
     )
+    return transported(samples) if transport else samples
 
 
 def _interp_rows(x_new: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -167,7 +235,9 @@ def surface_frame_offset(samples: CurveSamples, length: float) -> np.ndarray:
     radial -= np.sum(radial * samples.tangent, axis=-1, keepdims=True) * samples.tangent
     sin = np.sum(np.cross(radial, samples.normal) * samples.tangent, axis=-1)
     cos = np.sum(radial * samples.normal, axis=-1)
-    theta = np.unwrap(np.arctan2(sin, cos), axis=-1) - samples.twist
+    # The Frenet angle turns by ~pi where the curve nearly straightens, and so does the twist;
+    # their difference is smooth, so it is unwrapped again (a no-op where neither turns fast).
+    theta = np.unwrap(np.unwrap(np.arctan2(sin, cos), axis=-1) - samples.twist, axis=-1)
     mean = (
         _interp_rows(np.array([length]), samples.s, _cumint(theta * samples.speed, samples.dt))[
             :, 0

@@ -24,11 +24,15 @@ from acl_env.constants import (
     SEA_MODULE_RADIUS,
 )
 from acl_env.gait.curves import (
+    TWIST_MISMATCH,
+    CurveSamples,
     PitchVaryingHelix,
     bellows_integrals,
     points_at_arclength,
     sample_curve,
     surface_frame_offset,
+    transported,
+    twist_mismatch,
 )
 from acl_env.gait.kinematics import count_body_rolls
 from acl_env.validation import check_finite, check_int, check_positive
@@ -275,22 +279,39 @@ class ACLGait(Gait):
             radial_freq=check_finite("radial_freq", radial_freq),
         )
         self.n_samples = int(n_samples)
-        self._frame_offset_0 = float(
-            surface_frame_offset(self._samples(np.zeros(1)), self.body_length)[0]
-        )
+        # One twist for the whole gait, decided on its keyframes: the quadrature of tau where the
+        # grid resolves it (the table is then the one it always was), the normal's measured
+        # turns where it does not (docs/gait.md#thin-poles). Deciding per gait, not per phase,
+        # keeps the table continuous in the phase. The keyframes' samples give the table too.
+        keyframes = np.arange(self.steps_per_cycle) / self.steps_per_cycle
+        samples = sample_curve(self.curve, keyframes, self.body_length, self.n_samples)
+        self.transport_twist = twist_mismatch(samples) > TWIST_MISMATCH
+        if self.transport_twist:
+            samples = transported(samples)
+        self._frame_offset_0 = float(surface_frame_offset(samples, self.body_length)[0])
+        self._keyframe_angles = self._angles(keyframes, samples)
+
+    @property
+    def _raw_cycle(self) -> np.ndarray:
+        return self._keyframe_angles
 
     def _samples(self, phases: np.ndarray):
-        return sample_curve(self.curve, phases, self.body_length, self.n_samples)
+        return sample_curve(
+            self.curve, phases, self.body_length, self.n_samples, self.transport_twist
+        )
 
-    def raw_angles(self, phases: np.ndarray) -> np.ndarray:
-        phases = np.atleast_1d(np.asarray(phases, dtype=float))
-        samples = self._samples(phases)
+    def _angles(self, phases: np.ndarray, samples: CurveSamples) -> np.ndarray:
+        """Eq. 3-5 on the curve sampled at ``phases``, phi_0 with the hidden roll compensated."""
         c, s = bellows_integrals(samples, self.n_joints, self.module_length)
         hidden = surface_frame_offset(samples, self.body_length) - self._frame_offset_0
         phi0 = (self.roll_offset(phases) + hidden)[:, None]
         dorsal = np.cos(phi0) * c - np.sin(phi0) * s  # Eq. 5
         lateral = np.sin(phi0) * c + np.cos(phi0) * s  # Eq. 4
         return np.where(np.arange(self.n_joints) % 2 == 0, dorsal, lateral)
+
+    def raw_angles(self, phases: np.ndarray) -> np.ndarray:
+        phases = np.atleast_1d(np.asarray(phases, dtype=float))
+        return self._angles(phases, self._samples(phases))
 
     def backbones(self, phases: np.ndarray) -> np.ndarray:
         samples = self._samples(np.atleast_1d(np.asarray(phases, dtype=float)))

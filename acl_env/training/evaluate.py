@@ -20,7 +20,7 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
-  a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v1``: its roll term and
+  a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v2``: its roll term and
   roll limit apply); skipped with a note when the file has no such entry.
 
 All run at the env's default conditions plus the policy's non-training env kwargs plus
@@ -280,7 +280,7 @@ def build_controllers(
         acl_kwargs = other_gait
         controllers.append(Controller("policy", folder.env_id, base, str(folder.path)))
         if env_setting(folder.env_id, base, "base_gait", "acl") == "acl":
-            # The registered gait of the policy's env (ACLClimbNoRoll-v1: the non-rolling one),
+            # The registered gait of the policy's env (ACLClimbNoRoll-v2: the non-rolling one),
             # without any reshaping of it the policy was trained on.
             acl_id = folder.env_id
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))

@@ -1,6 +1,6 @@
 """The open-loop tuner: Optuna searches the ACL gait's parameters for the best open-loop gait.
 
-Each trial builds ``ACLClimb-v1`` (``ACLClimbNoRoll-v1`` with ``--no-roll``: the non-rolling
+Each trial builds ``ACLClimb-v1`` (``ACLClimbNoRoll-v2`` with ``--no-roll``: the non-rolling
 task, its roll term and ``roll_limit``) with a candidate squeeze and ``gait_kwargs`` (amp_pitch,
 spatial_freq, amp_radial, radial_freq, pitch of Eq. 1; ``rolls_per_cycle`` 1, or 0 with
 ``--no-roll``), plays it open loop (zero action: one keyframe per step, the gait's own cadence) on
@@ -28,7 +28,7 @@ Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per ke
 "acl_noroll" with ``--no-roll``)::
 
     acl:
-      env_id: acl_env/ACLClimb-v1     # the env the gait was tuned on (ACLClimbNoRoll-v1 for
+      env_id: acl_env/ACLClimb-v1     # the env the gait was tuned on (ACLClimbNoRoll-v2 for
                                        # acl_noroll)
       env_kwargs:                      # pass to gymnasium.make(env_id, **env_kwargs)
         squeeze: 0.004                 # m

@@ -2,7 +2,7 @@
 
 ``python benchmarks/noroll_limits.py [--seeds 3] [--json PATH]``: zero-action episodes (two
 cycles, one per reset seed, :func:`acl_env.evaluation.run_episode`) of ``acl_env/ACLClimbNoRoll-
-v1`` with one or two of its gait parameters changed from the tuned values (``NOROLL_KWARGS``):
+v2`` with one or two of its gait parameters changed from the tuned values (``NOROLL_KWARGS``):
 larger axial waves (A_p), a tighter helix (squeeze), a longer pitch, a third wave (Omega = 3).
 Prints climb and slip per gait cycle, the largest touched arc and the falls or roll-limit ends
 of each. The question it answers: does inching further per cycle only need larger waves, or

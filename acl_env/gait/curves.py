@@ -72,10 +72,9 @@ class CurveSamples:
     s: np.ndarray  # (K, M) arc length from t = 0
     kappa: np.ndarray  # (K, M)
     tau: np.ndarray  # (K, M)
-    twist: np.ndarray  # (K, M) cumulative int_0^s tau ds, as the gait uses it
+    twist: np.ndarray  # (K, M) cumulative int_0^s tau ds (quadrature, or summed turns)
     speed: np.ndarray  # (K, M) ds/dt
     dt: float  # grid step of t
-    twist_quadrature: np.ndarray  # (K, M) the same by quadrature of tau
     turns: np.ndarray  # (K, M - 1) the Frenet normal's turn over each interval (normal_turns)
 
 
@@ -133,10 +132,9 @@ def normal_turns(
 
 
 def twist_mismatch(samples: CurveSamples) -> float:
-    """Largest gap (rad, modulo 2 pi) between the quadrature of tau and the normal's measured
-    turn over one grid interval: near 0 where the grid resolves tau, large where it does not."""
-    quad = np.diff(samples.twist_quadrature, axis=-1)
-    gap = (quad - samples.turns + np.pi) % (2.0 * np.pi) - np.pi
+    """Largest gap (rad, modulo 2 pi) between the twist and the normal's measured turn over one
+    grid interval. On quadrature samples: near 0 where the grid resolves tau, large where not."""
+    gap = (np.diff(samples.twist, axis=-1) - samples.turns + np.pi) % (2.0 * np.pi) - np.pi
     return float(np.abs(gap).max())
 
 
@@ -174,8 +172,6 @@ def sample_curve(
     tangent = c1 / speed[..., None]
     binormal = cross / np.sqrt(np.maximum(cross_sq, 1e-300))[..., None]
     normal = np.cross(binormal, tangent)
-    quadrature = _cumint(tau * speed, dt)
-    turns = normal_turns(tangent, normal, triple / speed**6, s)
     samples = CurveSamples(
         t=t,
         points=c0,
@@ -184,11 +180,10 @@ def sample_curve(
         s=s,
         kappa=kappa,
         tau=tau,
-        twist=quadrature,
+        twist=_cumint(tau * speed, dt),
         speed=speed,
         dt=dt,
-        twist_quadrature=quadrature,
-        turns=turns,
+        turns=normal_turns(tangent, normal, triple / speed**6, s),
     )
     return transported(samples) if transport else samples
 

@@ -288,8 +288,9 @@ class ACLGait(Gait):
         self.transport_twist = twist_mismatch(samples) > TWIST_MISMATCH
         if self.transport_twist:
             samples = transported(samples)
-        self._frame_offset_0 = float(surface_frame_offset(samples, self.body_length)[0])
-        self._keyframe_angles = self._angles(keyframes, samples)
+        offsets = surface_frame_offset(samples, self.body_length)
+        self._frame_offset_0 = float(offsets[0])
+        self._keyframe_angles = self._angles(keyframes, samples, offsets)
 
     @property
     def _raw_cycle(self) -> np.ndarray:
@@ -300,10 +301,15 @@ class ACLGait(Gait):
             self.curve, phases, self.body_length, self.n_samples, self.transport_twist
         )
 
-    def _angles(self, phases: np.ndarray, samples: CurveSamples) -> np.ndarray:
-        """Eq. 3-5 on the curve sampled at ``phases``, phi_0 with the hidden roll compensated."""
+    def _angles(
+        self, phases: np.ndarray, samples: CurveSamples, offsets: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Eq. 3-5 on the curve sampled at ``phases``, phi_0 with the hidden roll compensated
+        (``offsets``: the samples' ``surface_frame_offset``, when already computed)."""
         c, s = bellows_integrals(samples, self.n_joints, self.module_length)
-        hidden = surface_frame_offset(samples, self.body_length) - self._frame_offset_0
+        if offsets is None:
+            offsets = surface_frame_offset(samples, self.body_length)
+        hidden = offsets - self._frame_offset_0
         phi0 = (self.roll_offset(phases) + hidden)[:, None]
         dorsal = np.cos(phi0) * c - np.sin(phi0) * s  # Eq. 5
         lateral = np.sin(phi0) * c + np.cos(phi0) * s  # Eq. 4

@@ -225,6 +225,12 @@ def test_a_saturated_gait_is_disqualified_without_a_rollout(tmp_path: Path) -> N
         (["--max-clipped", "2"], "--max-clipped"),
         (["--no-roll", "--max-arc", "0"], "--max-arc"),
         (["--policy-point", "no/such/eval.json"], "--policy-point"),
+        (["--condition", "gravity:3"], "--condition"),
+        (["--condition", "friction:0"], "--condition"),  # the env's range
+        (["--condition", "friction:slick"], "--condition"),
+        (["--condition", "friction"], "--condition"),
+        # the default search space's amp_radial does not fit around a 1 cm pole
+        (["--condition", "pole_radius:0.01"], "--space"),
     ],
 )
 def test_bad_input_is_one_line_naming_the_argument(
@@ -386,3 +392,34 @@ def test_also_plot_names_an_existing_study(
     assert exc.value.code == 2
     assert err.count("\n") == 1 and "--also-plot" in err and "nosuch" in err
     assert load(tmp_path).get_trials(states=tuning.FINISHED) == []  # refused before any trial
+
+
+def test_a_condition_plays_every_trial_there_and_is_part_of_the_study(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    seen: list[tuple[float, float]] = []
+    real_rollout = tuning.rollout
+
+    def spy(env: gymnasium.Env, seeds: Any) -> list[dict[str, float]]:
+        seen.append((env.unwrapped.friction, env.unwrapped.pole_radius))
+        return real_rollout(env, seeds)
+
+    condition = ["--condition", "friction:0.5", "pole_radius:0.06"]
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(tuning, "rollout", spy)
+        entry = tuning.main(tiny_args(tmp_path, "--n-trials", "3", *condition))
+    assert entry is not None
+    assert seen and set(seen) == {(0.5, 0.06)}  # the trials and the validation
+    assert entry["condition"] == {"friction": 0.5, "pole_radius": 0.06}
+    written = yaml.safe_load((tmp_path / "tuned.yml").read_text())["acl"]
+    assert written["condition"] == entry["condition"]
+    assert "friction" not in written["env_kwargs"]  # the gait alone, as for any tuned gait
+    # The same study under the default condition is another study.
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(tiny_args(tmp_path, "--n-trials", "4"))
+    assert exc.value.code == 2 and "condition" in capsys.readouterr().err
+    # Without --condition, nothing about it is stored: older studies resume as before.
+    tuning.main(tiny_args(tmp_path, "--n-trials", "2", "--study-name", "plain"))
+    assert "condition" not in load(tmp_path, "plain").user_attrs["settings"]
+    assert "condition" not in yaml.safe_load((tmp_path / "tuned.yml").read_text())["acl"]

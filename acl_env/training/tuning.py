@@ -14,6 +14,11 @@ attribute ``disqualified``); so is, with ``--no-roll``, a gait that touches the 
 rolled out and measured by :mod:`acl_env.evaluation` (``run_episode``, ``Episode.metrics``), and
 every trial stores those metrics (mean over its seeds) as user attributes.
 
+``--condition friction:0.5`` (also ``pole_radius``, ``kp``) tunes the gait for one fixed condition
+other than the env's defaults: every trial and the validation play there. The best gait for a
+held-out condition, found this way, is the open loop a policy that never saw it is measured
+against at its best (README, non-rolling task).
+
 With a few seeds per trial the study's best is partly luck, and good gaits sit near a cliff where
 the grip gives way; so the ``--validate-top`` best trials (and the default gait) are measured
 again on ``--validate-seeds`` new seeds, and the tuned gait is the best of them on those seeds
@@ -110,6 +115,9 @@ OBJECTIVES = {
     "energy_per_m": "minimize",
 }
 ENV_PARAMS = ("squeeze",)  # searched parameters that are env arguments; the rest are gait_kwargs
+# Env arguments --condition may fix for a whole study (the physical conditions of the held-out
+# evaluation); the env checks their values.
+CONDITIONS = ("pole_radius", "friction", "kp")
 
 
 @dataclass(frozen=True)
@@ -169,6 +177,9 @@ HEADER = """\
 #                          action (env_kwargs: squeeze in m, gait_kwargs for ACLGait)
 #   objective              the metric optimised, under reward_weights (the env's weights)
 #   seeds, steps_per_cycle, cycles_per_episode   each trial's episodes (reset seeds)
+#   condition              (only with --condition) env arguments every trial played under, such
+#                          as {friction: 0.5}; evaluation does not apply it: the gait is played
+#                          under the evaluation's own conditions
 #   trials, best_trial, study   finished trials of the Optuna study, the best one, its name
 #   metrics                the tuned gait's metrics (acl_env.evaluation), mean over the seeds
 #   validation             the same on new seeds (the best few trials were re-measured there and
@@ -198,6 +209,7 @@ class TuneSettings:
     max_clipped: float = 0.1
     max_touched_arc_deg: float | None = None
     space: dict[str, ParamRange] = field(default_factory=lambda: dict(SEARCH_SPACE))
+    condition: dict[str, float] = field(default_factory=dict)
 
     @property
     def direction(self) -> str:
@@ -208,6 +220,8 @@ class TuneSettings:
         out = asdict(self)
         out["seeds"] = list(self.seeds)
         out["space"] = {k: [v.low, v.high, v.integer] for k, v in self.space.items()}
+        if not self.condition:  # studies from before --condition resume unchanged
+            del out["condition"]
         return out
 
     def env_kwargs(self, params: Mapping[str, float]) -> dict[str, Any]:
@@ -218,11 +232,13 @@ class TuneSettings:
         return {**env, "gait_kwargs": gait}
 
     def protocol_kwargs(self) -> dict[str, Any]:
-        """Env arguments of the evaluation protocol (the same for every trial)."""
+        """Env arguments of the evaluation protocol (the same for every trial), the condition
+        included."""
         return {
             "steps_per_cycle": self.steps_per_cycle,
             "cycles_per_episode": self.cycles_per_episode,
             "reward_weights": dict(self.reward_weights),
+            **self.condition,
         }
 
 
@@ -260,8 +276,11 @@ def check_space(space: Mapping[str, ParamRange], pole_radius: float = DEFAULT_PO
         )
 
 
-def parse_space(items: Sequence[str]) -> dict[str, ParamRange]:
-    """``NAME:LOW:HIGH`` overrides of :data:`SEARCH_SPACE`, checked against the gait's validity."""
+def parse_space(
+    items: Sequence[str], pole_radius: float = DEFAULT_POLE_RADIUS
+) -> dict[str, ParamRange]:
+    """``NAME:LOW:HIGH`` overrides of :data:`SEARCH_SPACE`, checked against the gait's validity
+    on a pole of ``pole_radius``."""
     space = dict(SEARCH_SPACE)
     for item in items:
         parts = item.split(":")
@@ -275,8 +294,23 @@ def parse_space(items: Sequence[str]) -> dict[str, ParamRange]:
         except ValueError:
             raise UsageError("--space", f"{name} bounds must be numbers, got {item!r}") from None
         space[name] = ParamRange(*bounds, integer=SEARCH_SPACE[name].integer)
-    check_space(space)
+    check_space(space, pole_radius)
     return space
+
+
+def parse_condition(items: Sequence[str]) -> dict[str, float]:
+    """``--condition NAME:VALUE ...`` as ``{name: value}``; names from :data:`CONDITIONS`."""
+    try:
+        condition = parse_kv_pairs(items)
+    except ValueError as exc:
+        raise UsageError("--condition", str(exc)) from None
+    for name, value in condition.items():
+        if name not in CONDITIONS:
+            raise UsageError("--condition", f"unknown {name!r}; known: {list(CONDITIONS)}")
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise UsageError("--condition", f"{name} takes a number, got {value!r}")
+        condition[name] = float(value)
+    return condition
 
 
 def storage_url(storage: str) -> str:
@@ -680,6 +714,7 @@ def tuned_entry(
         "seeds": list(settings.seeds),
         "steps_per_cycle": settings.steps_per_cycle,
         "cycles_per_episode": settings.cycles_per_episode,
+        **({"condition": dict(settings.condition)} if settings.condition else {}),
         "trials": len(finished),
         "best_trial": chosen.number,
         "study": study.study_name,
@@ -919,6 +954,14 @@ def make_parser() -> cli.ArgumentParser:
         metavar="TERM:WEIGHT",
         help="env reward weights (default: the training config's)",
     )
+    parser.add_argument(
+        "--condition",
+        nargs="*",
+        default=[],
+        metavar="NAME:VALUE",
+        help=f"play every trial under this condition instead of the env's default, NAME one of "
+        f"{list(CONDITIONS)} (e.g. friction:0.5)",
+    )
     parser.add_argument("--config", default=str(DEFAULT_CONFIG), help="training config (zoo YAML)")
     parser.add_argument(
         "--n-trials",
@@ -1009,6 +1052,12 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         gymnasium.make(env_id, steps_per_cycle=args.steps_per_cycle, reward_weights=weights).close()
     except (ValueError, TypeError) as exc:
         raise UsageError("--reward-weights", str(exc)) from None
+    condition = parse_condition(args.condition)
+    try:  # and the condition's values
+        gymnasium.make(env_id, **condition).close()
+    except (ValueError, TypeError) as exc:
+        raise UsageError("--condition", str(exc)) from None
+    space = parse_space(args.space, condition.get("pole_radius", DEFAULT_POLE_RADIUS))
     return TuneSettings(
         env_id=env_id,
         objective=args.objective,
@@ -1019,7 +1068,8 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         cycles_per_episode=args.cycles,
         max_clipped=args.max_clipped,
         max_touched_arc_deg=max_arc,
-        space=parse_space(args.space),
+        space=space,
+        condition=condition,
     )
 
 

@@ -423,3 +423,31 @@ def test_a_condition_plays_every_trial_there_and_is_part_of_the_study(
     tuning.main(tiny_args(tmp_path, "--n-trials", "2", "--study-name", "plain"))
     assert "condition" not in load(tmp_path, "plain").user_attrs["settings"]
     assert "condition" not in yaml.safe_load((tmp_path / "tuned.yml").read_text())["acl"]
+
+
+def test_a_grid_of_conditions_scores_each_gait_on_all_of_them(tmp_path: Path) -> None:
+    seen: list[tuple[float, float]] = []
+    real_rollout = tuning.rollout
+
+    def spy(env: gymnasium.Env, seeds: Any) -> list[dict[str, float]]:
+        seen.append((env.unwrapped.friction, env.unwrapped.kp))
+        return real_rollout(env, seeds)
+
+    grid = ["--condition", "friction:[0.7,1.2]", "kp:20"]
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(tuning, "rollout", spy)
+        entry = tuning.main(tiny_args(tmp_path, "--n-trials", "2", *grid))
+    assert entry is not None and entry["condition"] == {"friction": [0.7, 1.2], "kp": 20.0}
+    assert set(seen) == {(0.7, 20.0), (1.2, 20.0)}
+    study = load(tmp_path)
+    for trial in study.get_trials(states=(optuna.trial.TrialState.COMPLETE,)):
+        assert trial.user_attrs["seeds_run"] == 2  # one seed in each of two conditions
+    # The chosen gait's score is the mean of its episodes over the grid, measured again here.
+    kwargs = {**tuning.TuneSettings().protocol_kwargs(), **entry["env_kwargs"]}
+    kwargs.update(steps_per_cycle=20, cycles_per_episode=1)
+    climbs = []
+    for friction in (0.7, 1.2):
+        env = gymnasium.make(ACL_CLIMB_ID, friction=friction, kp=20.0, **kwargs)
+        climbs.append(run_episode(env, zero_policy(env), 0).metrics()["climb_per_gait_cycle_m"])
+        env.close()
+    assert entry["metrics"]["climb_per_gait_cycle_m"] == pytest.approx(np.mean(climbs))

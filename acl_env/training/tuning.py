@@ -17,7 +17,10 @@ every trial stores those metrics (mean over its seeds) as user attributes.
 ``--condition friction:0.5`` (also ``pole_radius``, ``kp``) tunes the gait for one fixed condition
 other than the env's defaults: every trial and the validation play there. The best gait for a
 held-out condition, found this way, is the open loop a policy that never saw it is measured
-against at its best (README, non-rolling task).
+against at its best (README, non-rolling task). Lists make a grid,
+``--condition friction:[0.7,1.2] pole_radius:[0.065,0.09]``: every trial plays every seed in each
+of the four, and is scored by the mean over all of them (disqualified by a fall in any): a gait
+for a range of conditions rather than one.
 
 With a few seeds per trial the study's best is partly luck, and good gaits sit near a cliff where
 the grip gives way; so the ``--validate-top`` best trials (and the default gait) are measured
@@ -209,7 +212,7 @@ class TuneSettings:
     max_clipped: float = 0.1
     max_touched_arc_deg: float | None = None
     space: dict[str, ParamRange] = field(default_factory=lambda: dict(SEARCH_SPACE))
-    condition: dict[str, float] = field(default_factory=dict)
+    condition: dict[str, float | list[float]] = field(default_factory=dict)
 
     @property
     def direction(self) -> str:
@@ -232,14 +235,24 @@ class TuneSettings:
         return {**env, "gait_kwargs": gait}
 
     def protocol_kwargs(self) -> dict[str, Any]:
-        """Env arguments of the evaluation protocol (the same for every trial), the condition
-        included."""
+        """Env arguments of the evaluation protocol (the same for every trial)."""
         return {
             "steps_per_cycle": self.steps_per_cycle,
             "cycles_per_episode": self.cycles_per_episode,
             "reward_weights": dict(self.reward_weights),
-            **self.condition,
         }
+
+    def conditions(self) -> list[dict[str, float]]:
+        """The conditions every trial plays: the grid of ``condition``'s values (one condition
+        when each name has one value; the env's defaults when there is none)."""
+        names = list(self.condition)
+        values = [v if isinstance(v, list) else [v] for v in self.condition.values()]
+        return [dict(zip(names, combo, strict=True)) for combo in itertools.product(*values)]
+
+    def make_envs(self, params: Mapping[str, float]) -> list[gymnasium.Env]:
+        """One env per condition playing the gait ``params`` under the protocol."""
+        kwargs = {**self.protocol_kwargs(), **self.env_kwargs(params)}
+        return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]
 
 
 # --- validation -----------------------------------------------------------------------------------
@@ -298,8 +311,9 @@ def parse_space(
     return space
 
 
-def parse_condition(items: Sequence[str]) -> dict[str, float]:
-    """``--condition NAME:VALUE ...`` as ``{name: value}``; names from :data:`CONDITIONS`."""
+def parse_condition(items: Sequence[str]) -> dict[str, float | list[float]]:
+    """``--condition NAME:VALUE ...`` as ``{name: value}``, names from :data:`CONDITIONS`; a
+    value may be a list (``friction:[0.7,1.2]``): the study then plays the grid of them all."""
     try:
         condition = parse_kv_pairs(items)
     except ValueError as exc:
@@ -307,9 +321,12 @@ def parse_condition(items: Sequence[str]) -> dict[str, float]:
     for name, value in condition.items():
         if name not in CONDITIONS:
             raise UsageError("--condition", f"unknown {name!r}; known: {list(CONDITIONS)}")
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise UsageError("--condition", f"{name} takes a number, got {value!r}")
-        condition[name] = float(value)
+        values = list(value) if isinstance(value, list | tuple) else [value]
+        if not values or any(isinstance(v, bool) or not isinstance(v, int | float) for v in values):
+            raise UsageError("--condition", f"{name} takes a number or a list, got {value!r}")
+        if len(set(values)) != len(values):
+            raise UsageError("--condition", f"{name} repeats a value: {value!r}")
+        condition[name] = [float(v) for v in values] if len(values) > 1 else float(values[0])
     return condition
 
 
@@ -371,6 +388,25 @@ def _lost_creation_race(exc: Exception) -> bool:
 # --- the objective --------------------------------------------------------------------------------
 
 
+def rollout_all(
+    envs: Sequence[gymnasium.Env], seeds: Sequence[int]
+) -> tuple[list[dict[str, float]], str]:
+    """:func:`rollout` in each env (condition) in turn, stopping after the first fall or roll;
+    with where the last episode ran (``seed 3``, or ``seed 3 at friction 0.7`` on a grid)."""
+    episodes: list[dict[str, float]] = []
+    where = ""
+    for env in envs:
+        runs = rollout(env, seeds)
+        episodes += runs
+        where = f"seed {seeds[len(runs) - 1]}"
+        if len(envs) > 1:
+            u = env.unwrapped
+            where += f" at pole {u.pole_radius} m, friction {u.friction}, kp {u.kp}"
+        if runs[-1]["falls"] or runs[-1]["rolled"]:
+            break
+    return episodes, where
+
+
 def rollout(env: gymnasium.Env, seeds: Sequence[int]) -> list[dict[str, float]]:
     """Per-episode metrics of the open-loop gait (zero action) on ``seeds``, in order, plus
     ``rolled`` (1 if the env's ``roll_limit`` ended the episode); stops after the first fall or
@@ -396,33 +432,37 @@ def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict
 
 
 def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
-    """Optuna objective: the mean of ``settings.objective`` over the seeds, falls disqualifying."""
+    """Optuna objective: the mean of ``settings.objective`` over the seeds (and conditions),
+    falls disqualifying."""
 
     def objective(trial: optuna.Trial) -> float:
         trial.set_user_attr("worker", f"{socket.gethostname()}:{os.getpid()}")
         params = suggest_params(trial, settings.space)
-        kwargs = {**settings.protocol_kwargs(), **settings.env_kwargs(params)}
-        env = gymnasium.make(settings.env_id, **kwargs)
+        envs = settings.make_envs(params)
         try:
-            saturation = env.unwrapped.gait.saturation
+            # The most clipped table over the conditions (a thinner pole clips more).
+            saturation = max(
+                (env.unwrapped.gait.saturation for env in envs), key=lambda s: s.sample_fraction
+            )
             trial.set_user_attr("clipped_fraction", saturation.sample_fraction)
             trial.set_user_attr("clipped_max_rad", saturation.max_excess)
             if saturation.sample_fraction > settings.max_clipped:
                 trial.set_user_attr("disqualified", "saturated")
                 raise optuna.TrialPruned(f"joint limit clips {saturation.sample_fraction:.0%}")
-            episodes = rollout(env, settings.seeds)
+            episodes, where = rollout_all(envs, settings.seeds)
         finally:
-            env.close()
+            for env in envs:
+                env.close()
         metrics = {m: mean_ci95(e[m] for e in episodes)["mean"] for m in METRICS}
         for name, value in metrics.items():
             trial.set_user_attr(name, value)
         trial.set_user_attr("seeds_run", len(episodes))
         if metrics["falls"] > 0.0:
             trial.set_user_attr("disqualified", "fell")
-            raise optuna.TrialPruned(f"fell on seed {settings.seeds[len(episodes) - 1]}")
+            raise optuna.TrialPruned(f"fell on {where}")
         if any(e["rolled"] for e in episodes):
             trial.set_user_attr("disqualified", "rolled")
-            raise optuna.TrialPruned(f"rolled past roll_limit on seed {settings.seeds[-1]}")
+            raise optuna.TrialPruned(f"rolled past roll_limit on {where}")
         arc = max(e["touched_arc_deg"] for e in episodes)
         trial.set_user_attr("max_touched_arc_deg", arc)
         if settings.max_touched_arc_deg is not None and arc > settings.max_touched_arc_deg:
@@ -661,12 +701,10 @@ def validate(
         key = f"validation_{trial.number}"
         stored = study.user_attrs.get(key)
         if stored is None or stored["seeds"] != seeds:
-            params = {k: trial.params[k] for k in settings.space}
-            env = gymnasium.make(
-                settings.env_id, **settings.protocol_kwargs(), **settings.env_kwargs(params)
-            )
-            episodes = rollout(env, seeds)
-            env.close()
+            envs = settings.make_envs({k: trial.params[k] for k in settings.space})
+            episodes, _ = rollout_all(envs, seeds)
+            for env in envs:
+                env.close()
             summaries = {m: mean_ci95(e[m] for e in episodes) for m in METRICS}
             stored = {
                 "seeds": seeds,
@@ -1053,12 +1091,10 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
     except (ValueError, TypeError) as exc:
         raise UsageError("--reward-weights", str(exc)) from None
     condition = parse_condition(args.condition)
-    try:  # and the condition's values
-        gymnasium.make(env_id, **condition).close()
-    except (ValueError, TypeError) as exc:
-        raise UsageError("--condition", str(exc)) from None
-    space = parse_space(args.space, condition.get("pole_radius", DEFAULT_POLE_RADIUS))
-    return TuneSettings(
+    radii = condition.get("pole_radius", DEFAULT_POLE_RADIUS)
+    # the thinnest pole leaves the least helix radius for the radial wave
+    space = parse_space(args.space, min(radii) if isinstance(radii, list) else radii)
+    settings = TuneSettings(
         env_id=env_id,
         objective=args.objective,
         reward_weights=weights,
@@ -1071,6 +1107,12 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         space=space,
         condition=condition,
     )
+    for values in settings.conditions():  # the env checks the condition's values
+        try:
+            gymnasium.make(env_id, **values).close()
+        except (ValueError, TypeError) as exc:
+            raise UsageError("--condition", str(exc)) from None
+    return settings
 
 
 def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:

@@ -341,6 +341,55 @@ def summarize(episodes: Sequence[Episode]) -> dict[str, Any]:
     return summary
 
 
+# Metrics compared episode by episode in :func:`paired_differences`.
+PAIRED_METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")
+
+
+def paired_differences(
+    summaries: dict[str, dict[str, Any]],
+    reference: str = "policy",
+    metrics: Sequence[str] = PAIRED_METRICS,
+) -> dict[str, dict[str, dict[str, Any]]]:
+    """``reference`` minus each other controller, episode by episode on the same reset seeds:
+    ``{controller: {metric: mean_ci95(differences)}}`` (:func:`summarize`'s ``values``).
+
+    Both sides of a pair share the seed, so the pole, skin and springs drawn for it: the paired
+    interval is the one that says whether one controller beats the other, and it is often much
+    narrower than the two controllers' own intervals side by side. Episodes where either value is
+    undefined (no climb: slip per metre) are left out of that metric's pairs (``n`` says how many
+    remain). Controllers run on other seeds raise ``ValueError``.
+    """
+    ref = summaries[reference]
+    out: dict[str, dict[str, dict[str, Any]]] = {}
+    for name, summary in summaries.items():
+        if name == reference:
+            continue
+        if summary["seeds"] != ref["seeds"]:
+            raise ValueError(
+                f"{name} ran on seeds {summary['seeds']}, {reference} on {ref['seeds']}"
+            )
+        out[name] = {}
+        for metric in metrics:
+            pairs = zip(ref[metric]["values"], summary[metric]["values"], strict=True)
+            out[name][metric] = mean_ci95(
+                a - b for a, b in pairs if a is not None and b is not None
+            )
+    return out
+
+
+def format_paired(differences: dict[str, dict[str, dict[str, Any]]], reference: str) -> str:
+    """One line per controller: the paired differences of :func:`paired_differences`."""
+    lines = [f"{reference} minus each controller, paired over the same seeds (mean ± 95 % CI):"]
+    for name, metrics in differences.items():
+        cells = []
+        for metric, label, fmt in TABLE_ROWS:
+            if metric in metrics:
+                d = metrics[metric]
+                cells.append(f"{label} {d['mean']:+{fmt}} ± {d['half_width']:{fmt}}")
+        lines.append(f"  {name}: " + "; ".join(cells))
+    return "\n".join(lines)
+
+
 # Columns of :func:`format_table`: metric, label, format.
 TABLE_ROWS = (
     ("climb_per_cycle_m", "climb per nominal cycle (m)", ".4f"),

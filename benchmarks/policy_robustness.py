@@ -1,9 +1,9 @@
 """Is the policy no worse than open loop across the randomisation range? Pole radius x friction.
 
 ``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out] [--json PATH]
-[--tuned-gaits FILE]`` evaluates the controllers of ``train/evaluate.py``
+[--tuned-gaits FILE] [--tuned-key KEY]`` evaluates the controllers of ``train/evaluate.py``
 (:mod:`acl_env.training.evaluate`: the policy, open-loop ACL, at the policy's cadence, rolling
-helix, tuned gait from ``--tuned-gaits``; same seeds for all) at the
+helix, tuned gait from ``--tuned-gaits``, entry ``--tuned-key``; same seeds for all) at the
 corners and centre of the training ranges of pole radius and friction, or with ``--held-out`` under
 conditions outside the training ranges (``HELD_OUT``), and prints the climb per gait cycle, slip
 per metre, largest touched arc, falls and (in the JSON) episodes ended by rolling and mean
@@ -68,6 +68,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         "--tuned-gaits", type=Path, default=DEFAULT_TUNED_GAITS, help="the tuned open-loop gaits"
     )
     parser.add_argument(
+        "--tuned-key", default=None, help="entry of --tuned-gaits (default: acl or acl_noroll)"
+    )
+    parser.add_argument(
         "--held-out", action="store_true", help="conditions outside the training ranges"
     )
     parser.add_argument(
@@ -80,14 +83,18 @@ def main(argv: list[str] | None = None) -> list[dict]:
     except ValueError as error:
         parser.error(f"argument --policy: {error}")
     try:  # a tuned-gaits file that is not one: refused before any episode
-        build_controllers(folder, {}, None, args.tuned_gaits)
+        _, notes = build_controllers(folder, {}, None, args.tuned_gaits, args.tuned_key)
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
+    if args.tuned_key is not None and any(n.startswith("open_loop_tuned: skipped") for n in notes):
+        parser.error(f"argument --tuned-key: no {args.tuned_key!r} in {args.tuned_gaits}")
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
     for label, overrides in conditions:
-        controllers, notes = build_controllers(folder, overrides, None, args.tuned_gaits)
+        controllers, notes = build_controllers(
+            folder, overrides, None, args.tuned_gaits, args.tuned_key
+        )
         results = evaluate(controllers, seeds, progress=False, pool=pool)
         row: dict = {"condition": label, "overrides": overrides}
         for name, episodes in results.items():

@@ -542,3 +542,37 @@ def test_a_malformed_tuned_gaits_file_is_refused_naming_it(tmp_path: Path, text:
     path.write_text(text)
     with pytest.raises(evaluate.TunedGaitsError, match=r"tuned\.yml is not a tuned-gaits file"):
         evaluate.tuned_gait(path, None, non_rolling=False)
+
+
+def _summary(seeds: list[int], **values: list[float]) -> dict[str, Any]:
+    return {"seeds": seeds, **{m: {"values": v} for m, v in values.items()}}
+
+
+def test_paired_differences_are_per_seed_and_narrower_than_side_by_side() -> None:
+    # Two controllers whose episodes vary together with the seed (the pole drawn for it), the
+    # policy 1 cm ahead on every one: side by side the intervals overlap, paired they do not.
+    base = [0.05, 0.07, 0.06, 0.08, 0.04]
+    policy = [b + 0.01 for b in base]
+    summaries = {
+        "policy": _summary([0, 1, 2, 3, 4], climb_per_gait_cycle_m=policy),
+        "gait": _summary([0, 1, 2, 3, 4], climb_per_gait_cycle_m=base),
+    }
+    paired = evaluation.paired_differences(summaries, metrics=("climb_per_gait_cycle_m",))
+    d = paired["gait"]["climb_per_gait_cycle_m"]
+    assert d["mean"] == pytest.approx(0.01) and d["half_width"] == pytest.approx(0.0, abs=1e-12)
+    side = [evaluation.mean_ci95(v) for v in (policy, base)]
+    assert side[0]["ci95"][0] < side[1]["ci95"][1]  # overlapping side by side
+    text = evaluation.format_paired(paired, "policy")
+    assert "gait: climb per gait cycle (m) +0.0100" in text
+
+
+def test_paired_differences_skip_undefined_pairs_and_refuse_other_seeds() -> None:
+    summaries = {
+        "policy": _summary([0, 1, 2], slip_per_m=[1.0, 2.0, None]),  # None: JSON's NaN
+        "gait": _summary([0, 1, 2], slip_per_m=[0.5, math.nan, 1.0]),
+    }
+    d = evaluation.paired_differences(summaries, metrics=("slip_per_m",))["gait"]["slip_per_m"]
+    assert d["n"] == 1 and d["mean"] == pytest.approx(0.5)
+    summaries["gait"]["seeds"] = [1, 2, 3]
+    with pytest.raises(ValueError, match="seeds"):
+        evaluation.paired_differences(summaries, metrics=("slip_per_m",))

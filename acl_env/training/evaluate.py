@@ -56,8 +56,10 @@ from acl_env.evaluation import (
     Episode,
     Policy,
     constant_cadence_policy,
+    format_paired,
     format_table,
     mean_ci95,
+    paired_differences,
     run_episode,
     summarize,
     zero_policy,
@@ -552,6 +554,10 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     if SAME_CADENCE in results:  # present whenever a same-cadence open loop is
         document["same_cadence_phase_rate"] = summaries["policy"]["mean_phase_rate"]
     print(format_table(summaries, markdown=args.markdown))
+    if "policy" in summaries and len(summaries) > 1:
+        paired = paired_differences(summaries, "policy")
+        document["paired_vs_policy"] = paired
+        print(format_paired(paired, "policy"))
     for note in notes:
         print(note)
     if args.json:

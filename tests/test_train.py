@@ -197,9 +197,14 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
 # Ablations that train with another slip weight than the shipped recipe's 2 (reward shaping); the
 # README evaluates them under the shipped weights, against the open loop tuned for those.
 SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
-# Non-rolling runs whose objective is the climb (slip 0), on the gait tuned for climb
-# (tuned_gaits_noroll_climb.yml), as ppo.yml's shipped non-rolling recipe; the roll term stays.
-NOROLL_CLIMB_OBJECTIVE = ("ppo.yml", "ablations/noroll_climb_gait.yml")
+# Non-rolling runs whose objective is the climb (slip 0), on a gait a climb study found, as
+# ppo.yml's shipped non-rolling recipe; the roll term stays. Recipe -> that study's gaits file.
+NOROLL_CLIMB_GAITS = {
+    "ppo.yml": "tuned_gaits_noroll_climb.yml",
+    "ablations/noroll_climb_gait.yml": "tuned_gaits_noroll_climb.yml",
+    "ablations/noroll_climb_rerun_gait.yml": "tuned_gaits_noroll_climb_rerun.yml",
+}
+NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))
@@ -223,11 +228,12 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
 
 @pytest.mark.parametrize("recipe", NOROLL_CLIMB_OBJECTIVE)
 def test_noroll_climb_recipe_plays_the_climb_studys_gait(recipe: str) -> None:
-    """The shipped non-rolling recipe (and its ablation) start from the gait the climb study
+    """The shipped non-rolling recipe (and its ablations) start from the gait a climb study
     found, and train for that study's objective, the climb (slip weight 0; the registered roll
     term kept), so its open loop is the best gait for the same objective."""
     hyperparams = config.load_hyperparams(TRAIN / "configs" / recipe, ACL_CLIMB_NOROLL_ID)
-    climb = yaml.safe_load((TRAIN / "configs" / "tuned_gaits_noroll_climb.yml").read_text())
+    gaits = TRAIN / "configs" / NOROLL_CLIMB_GAITS[recipe]
+    climb = yaml.safe_load(gaits.read_text())
     entry = climb["acl_noroll_climb"]
     assert entry["objective"] == "climb_per_gait_cycle_m"
     assert entry["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 0

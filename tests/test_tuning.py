@@ -394,20 +394,28 @@ def test_also_plot_names_an_existing_study(
     assert load(tmp_path).get_trials(states=tuning.FINISHED) == []  # refused before any trial
 
 
-def test_a_condition_plays_every_trial_there_and_is_part_of_the_study(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    seen: list[tuple[float, float]] = []
+def tune_recording(
+    tmp_path: Path, attrs: tuple[str, ...], n_trials: str, *extra: str
+) -> tuple[dict[str, Any] | None, list[tuple[float, ...]]]:
+    """Run a tiny study; return its entry and, per rollout, the env's ``attrs`` it played."""
+    seen: list[tuple[float, ...]] = []
     real_rollout = tuning.rollout
 
     def spy(env: gymnasium.Env, seeds: Any) -> list[dict[str, float]]:
-        seen.append((env.unwrapped.friction, env.unwrapped.pole_radius))
+        seen.append(tuple(getattr(env.unwrapped, a) for a in attrs))
         return real_rollout(env, seeds)
 
-    condition = ["--condition", "friction:0.5", "pole_radius:0.06"]
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(tuning, "rollout", spy)
-        entry = tuning.main(tiny_args(tmp_path, "--n-trials", "3", *condition))
+        entry = tuning.main(tiny_args(tmp_path, "--n-trials", n_trials, *extra))
+    return entry, seen
+
+
+def test_a_condition_plays_every_trial_there_and_is_part_of_the_study(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    condition = ["--condition", "friction:0.5", "pole_radius:0.06"]
+    entry, seen = tune_recording(tmp_path, ("friction", "pole_radius"), "3", *condition)
     assert entry is not None
     assert seen and set(seen) == {(0.5, 0.06)}  # the trials and the validation
     assert entry["condition"] == {"friction": 0.5, "pole_radius": 0.06}
@@ -426,17 +434,8 @@ def test_a_condition_plays_every_trial_there_and_is_part_of_the_study(
 
 
 def test_a_grid_of_conditions_scores_each_gait_on_all_of_them(tmp_path: Path) -> None:
-    seen: list[tuple[float, float]] = []
-    real_rollout = tuning.rollout
-
-    def spy(env: gymnasium.Env, seeds: Any) -> list[dict[str, float]]:
-        seen.append((env.unwrapped.friction, env.unwrapped.kp))
-        return real_rollout(env, seeds)
-
     grid = ["--condition", "friction:[0.7,1.2]", "kp:20"]
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(tuning, "rollout", spy)
-        entry = tuning.main(tiny_args(tmp_path, "--n-trials", "2", *grid))
+    entry, seen = tune_recording(tmp_path, ("friction", "kp"), "2", *grid)
     assert entry is not None and entry["condition"] == {"friction": [0.7, 1.2], "kp": 20.0}
     assert set(seen) == {(0.7, 20.0), (1.2, 20.0)}
     study = load(tmp_path)

@@ -342,3 +342,19 @@ def test_the_zoo_trains_from_the_config(tmp_path: Path) -> None:
     )
     assert list(tmp_path.rglob("vecnormalize.pkl"))
     assert list(tmp_path.rglob(f"*{ACL_ID.split('/')[1]}.zip"))
+
+
+def test_console_scripts_exit_with_a_status_not_a_document() -> None:
+    """A console script runs ``sys.exit(target())``: a target returning a document (as the
+    ``main`` functions do, for callers in Python) would be printed and exit with status 1. Every
+    script in pyproject.toml must return None or an exit status."""
+    import importlib
+    import tomllib
+    import typing
+
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert {"acl-train", "acl-evaluate", "acl-tune-gait", "acl-compare"} <= set(scripts)
+    for name, target in scripts.items():
+        module, function = target.split(":")
+        returns = typing.get_type_hints(getattr(importlib.import_module(module), function))
+        assert returns["return"] in (type(None), int), name

@@ -568,3 +568,9 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         shown = [controllers[0], *(by_name[name] for name in args.video_beside)]
         record_video(shown, seeds[0], args.video, args.video_speedup)
     return document
+
+
+def run() -> None:
+    """Console-script entry point: :func:`main`, whose returned document is for callers in
+    Python (a console script would print a returned value and exit with status 1)."""
+    main()

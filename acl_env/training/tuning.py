@@ -1188,3 +1188,9 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
 
 if __name__ == "__main__":
     main()
+
+
+def run() -> None:
+    """Console-script entry point: :func:`main`, whose returned document is for callers in
+    Python (a console script would print a returned value and exit with status 1)."""
+    main()

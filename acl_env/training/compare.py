@@ -1,0 +1,98 @@
+"""Pair one controller of two evaluations, seed by seed: is policy A better than policy B?
+
+``python train/compare_evals.py A.json B.json [--controller policy] [--labels A B] [--json OUT]``
+
+Each file is an ``evaluate.py --json`` output. Two evaluations run on the same reset seeds (the
+default: seeds 0..N-1) give each seed the same pole, skin and springs on both sides, so the
+difference per seed, A minus B, and its Student's t interval
+(:func:`acl_env.evaluation.paired_differences`) say whether two trained policies (or a policy
+and an ablation of it) differ, where their intervals side by side often overlap. Files run on
+other seeds, on another env or under other conditions (``CONDITIONS``: a held-out evaluation
+against a default one), or without the controller, are refused with a one-line error.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from acl_env.evaluation import format_paired, paired_differences
+from acl_env.training import cli
+from acl_env.training.runs import write_json
+
+# Env kwargs that set the conditions an episode is played under (evaluate.py's --env-kwargs and
+# the held-out overrides), rather than the controller: both sides must agree on them.
+CONDITIONS = ("pole_radius", "friction", "kp", "domain_randomization")
+
+
+def read_controller(path: Path, controller: str) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The summary of ``controller`` in the evaluation JSON at ``path``, and the env it was played
+    on (``{"env_id", CONDITIONS...}``); ``ValueError`` naming the file when it is not an
+    evaluation or lacks that controller."""
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as err:
+        raise ValueError(f"{path}: not a readable evaluation JSON ({err})") from None
+    controllers = data.get("controllers") if isinstance(data, dict) else None
+    if not isinstance(controllers, dict):
+        raise ValueError(f"{path}: no 'controllers' (is it an evaluate.py --json output?)")
+    if controller not in controllers:
+        raise ValueError(f"{path}: no controller {controller!r} (it has {sorted(controllers)})")
+    env_kwargs = (data.get("env_kwargs") or {}).get(controller) or {}
+    env = {"env_id": (data.get("env_ids") or {}).get(controller)}
+    env.update({key: env_kwargs.get(key) for key in CONDITIONS})
+    return controllers[controller], env
+
+
+def compare(
+    first: Path, second: Path, controller: str = "policy", labels: tuple[str, str] | None = None
+) -> dict[str, Any]:
+    """``controller`` of ``first`` minus that of ``second``, paired by seed: ``{"labels",
+    "files", "controller", "env", "paired": {metric: mean_ci95}}``. ``ValueError`` when the two
+    were played on other envs, under other conditions or on other seeds."""
+    a, b = (labels or (first.stem, second.stem))[:2]
+    if a == b:
+        raise ValueError(f"the two labels must differ, got {a!r} twice")
+    (summary_a, env_a), (summary_b, env_b) = (
+        read_controller(first, controller),
+        read_controller(second, controller),
+    )
+    for key, value in env_a.items():
+        if env_b[key] != value:
+            raise ValueError(f"{first} ran with {key}={value!r}, {second} with {env_b[key]!r}")
+    paired = paired_differences({a: summary_a, b: summary_b}, reference=a)[b]
+    return {
+        "labels": [a, b],
+        "files": [str(first), str(second)],
+        "controller": controller,
+        "env": env_a,
+        "paired": paired,
+    }
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = cli.ArgumentParser(prog="compare_evals.py", description=__doc__.splitlines()[0])
+    parser.add_argument("first", type=Path, help="evaluation JSON of A")
+    parser.add_argument("second", type=Path, help="evaluation JSON of B")
+    parser.add_argument(
+        "--controller", default="policy", help="controller to pair (default policy)"
+    )
+    parser.add_argument("--labels", nargs=2, metavar=("A", "B"), help="names (default: file stems)")
+    parser.add_argument("--json", type=cli.output_file(".json"), help="write the differences here")
+    args = parser.parse_args(argv)
+    try:
+        result = compare(args.first, args.second, args.controller, args.labels)
+    except ValueError as err:
+        parser.error(str(err))
+    a, b = result["labels"]
+    print(format_paired({b: result["paired"]}, reference=f"{a} ({args.controller})"))
+    if args.json:
+        write_json(args.json, result)
+    return result
+
+
+def run() -> None:
+    """Console-script entry point: :func:`main`, whose returned document is for callers in
+    Python (a console script would print a returned value and exit with status 1)."""
+    main()

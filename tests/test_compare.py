@@ -58,7 +58,8 @@ def test_compare_cli_prints_and_writes(tmp_path: Path, capsys: pytest.CaptureFix
         ({"seeds": [5, 6]}, "ran on seeds"),
         ({"friction": 0.5}, "friction"),
         ({"controller": "open_loop_acl"}, "no controller 'open_loop_acl'"),
-        ({"text": "not json"}, "not a readable evaluation JSON"),
+        ({"text": "not json"}, "is not valid JSON"),
+        ({"missing": True}, "cannot read it"),
         ({"text": "[1, 2]"}, "no 'controllers'"),
     ],
 )
@@ -71,7 +72,7 @@ def test_compare_refuses_what_does_not_pair(
     b = tmp_path / "b.json"
     if "text" in second:
         b.write_text(second["text"])
-    else:
+    elif "missing" not in second:
         kwargs = {k: v for k, v in second.items() if k in ("friction",)}
         write_eval(b, [0.07, 0.07], second.get("seeds", [0, 1]), **kwargs)
     argv = [str(a), str(b)] + (

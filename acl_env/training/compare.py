@@ -13,13 +13,12 @@ against a default one), or without the controller, are refused with a one-line e
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 from acl_env.evaluation import format_paired, paired_differences
 from acl_env.training import cli
-from acl_env.training.runs import write_json
+from acl_env.training.runs import read_json, write_json
 
 # Env kwargs that set the conditions an episode is played under (evaluate.py's --env-kwargs and
 # the held-out overrides), rather than the controller: both sides must agree on them.
@@ -31,9 +30,9 @@ def read_controller(path: Path, controller: str) -> tuple[dict[str, Any], dict[s
     on (``{"env_id", CONDITIONS...}``); ``ValueError`` naming the file when it is not an
     evaluation or lacks that controller."""
     try:
-        data = json.loads(path.read_text())
-    except (OSError, json.JSONDecodeError) as err:
-        raise ValueError(f"{path}: not a readable evaluation JSON ({err})") from None
+        data = read_json(path)
+    except OSError as err:
+        raise ValueError(f"{path}: cannot read it ({err.strerror})") from None
     controllers = data.get("controllers") if isinstance(data, dict) else None
     if not isinstance(controllers, dict):
         raise ValueError(f"{path}: no 'controllers' (is it an evaluate.py --json output?)")

@@ -4,6 +4,8 @@
 
 Panels: episode climb (m), contact slip per step (m), episode return (normalised reward) and the
 policy's action std, against environment steps. ``--json PATH`` also writes the curves.
+``--start-steps`` shifts each run's steps: a run warm-started (``--init-from``) from another's
+policy counts its steps from 0, and starts where that one ended.
 """
 
 from __future__ import annotations
@@ -48,11 +50,26 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--labels", nargs="*", help="one label per run (default: folder names)")
     parser.add_argument("--out", required=True, help="image file")
     parser.add_argument("--json", type=cli.output_file(".json"), help="write the curves as JSON")
+    parser.add_argument(
+        "--start-steps",
+        nargs="*",
+        type=cli.int_at_least(0),
+        help="env steps each run starts at (default 0): a warm start's source run's length",
+    )
     args = parser.parse_args(argv)
     labels = args.labels or [Path(run).name for run in args.runs]
     if len(labels) != len(args.runs):
         parser.error("--labels needs one label per run")
-    data = {label: read_curves(run) for label, run in zip(labels, args.runs, strict=True)}
+    starts = args.start_steps or [0] * len(args.runs)
+    if len(starts) != len(args.runs):
+        parser.error("--start-steps needs one number per run")
+    data = {
+        label: {
+            tag: [(step + start, value) for step, value in points]
+            for tag, points in read_curves(run).items()
+        }
+        for label, run, start in zip(labels, args.runs, starts, strict=True)
+    }
     fig, axes = plt.subplots(
         1, len(PANELS), figsize=(4.2 * len(PANELS), 3.4 + 0.2 * len(data)), layout="constrained"
     )

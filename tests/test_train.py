@@ -175,6 +175,11 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
     assert shipped["mean"] >= tuned_there["mean"] - tuned_there["half_width"]
 
 
+# Shipped policies trained in two stages: policy folder -> the stage-1 policy it was warm-started
+# from (--init-from; args.json names the folder that held it then, the shipped one).
+WARM_STARTED_FROM = {"acl_climb_noroll_ppo": "ablations/noroll_climb_gait_3m"}
+
+
 @pytest.mark.parametrize(
     ("env_id", "policy"),
     [(ACL_ID, "acl_climb_ppo"), (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo")],
@@ -182,7 +187,8 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
 def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, policy: str) -> None:
     """The README says each shipped policy comes from its ppo.yml entry: the run's merged
     config.yml must be that entry (``n_timesteps`` aside: a run in segments passes
-    ``--n-timesteps`` per segment), and the run must have trained all of its steps."""
+    ``--n-timesteps`` per segment), and the run must have trained all of its steps, or, for a
+    second stage, the stage-1 policy all of the entry's and the run the steps it was given."""
     folder = TRAIN / "policies" / policy
     recipe = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
     trained = config.load_hyperparams(folder / "config.yml", env_id)
@@ -190,8 +196,24 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
         k: v for k, v in recipe.items() if k != "n_timesteps"
     }
     summary = json.loads((folder / "summary.json").read_text())
-    assert summary["total_steps"] >= recipe["n_timesteps"]
     assert not summary["interrupted"]
+    stage_1 = WARM_STARTED_FROM.get(policy)
+    if stage_1 is None:
+        assert summary["total_steps"] >= recipe["n_timesteps"]
+        return
+    # A second stage: the entry again, warm-started from the stage-1 policy (ppo.yml's comment),
+    # which trained the entry's full n_timesteps itself; this run trained the steps it was given.
+    args = json.loads((folder / "args.json").read_text())["args"]
+    assert args["init_from"] and args["n_timesteps"]
+    assert summary["total_steps"] >= args["n_timesteps"]
+    earlier = TRAIN / "policies" / stage_1
+    trained = config.load_hyperparams(earlier / "config.yml", env_id)
+    assert {k: v for k, v in trained.items() if k != "n_timesteps"} == {
+        k: v for k, v in recipe.items() if k != "n_timesteps"
+    }
+    assert (
+        json.loads((earlier / "summary.json").read_text())["total_steps"] >= recipe["n_timesteps"]
+    )
 
 
 # Ablations that train with another slip weight than the shipped recipe's 2 (reward shaping); the

@@ -575,3 +575,51 @@ def test_init_from_cannot_resume(complete_run: Path, capsys: pytest.CaptureFixtu
     with pytest.raises(SystemExit) as exit_info:
         trainer.main(["--resume", str(complete_run), "--init-from", str(complete_run)])
     assert exit_info.value.code == 2 and "--init-from" in capsys.readouterr().err
+
+
+def _fake_model(path: Path, steps: int) -> Path:
+    """A zip with an SB3 ``data`` record trained ``steps`` env steps (all latest_model reads)."""
+    import zipfile
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("data", json.dumps({"num_timesteps": steps}))
+    return path
+
+
+def test_latest_model_ranks_by_steps_not_file_times(tmp_path: Path) -> None:
+    """A copied run folder has new file times in any order: resume and policy loading must
+    still take the model that trained furthest (here model.zip at 300 steps, though the
+    100-step checkpoint is the newest file), and a checkpoint beyond model.zip when there is
+    one (a run killed after its last checkpoint)."""
+    from acl_env.training.runs import latest_model, model_steps
+
+    checkpoints = tmp_path / "checkpoints"
+    final = _fake_model(tmp_path / "model.zip", 300)
+    for steps in (200, 100):  # written last: the newest files
+        _fake_model(checkpoints / f"model_{steps}_steps.zip", steps)
+        (checkpoints / f"model_vecnormalize_{steps}_steps.pkl").write_bytes(b"")
+    os.utime(final, ns=(1, 1))  # the oldest file time of all
+    assert model_steps(checkpoints / "model_200_steps.zip") == 200
+    assert latest_model(tmp_path) == (final, None)
+
+    _fake_model(checkpoints / "model_400_steps.zip", 400)
+    (checkpoints / "model_vecnormalize_400_steps.pkl").write_bytes(b"")
+    os.utime(checkpoints / "model_400_steps.zip", ns=(1, 1))
+    assert latest_model(tmp_path) == (
+        checkpoints / "model_400_steps.zip",
+        checkpoints / "model_vecnormalize_400_steps.pkl",
+    )
+
+
+def test_latest_model_prefers_the_final_model_on_a_tie_and_names_a_bad_file(
+    tmp_path: Path,
+) -> None:
+    from acl_env.training.runs import latest_model
+
+    final = _fake_model(tmp_path / "model.zip", 256)
+    _fake_model(tmp_path / "checkpoints" / "model_256_steps.zip", 256)
+    assert latest_model(tmp_path)[0] == final
+    final.write_bytes(b"not a zip")
+    with pytest.raises(ValueError, match=r"model\.zip: not an SB3 model"):
+        latest_model(tmp_path)

@@ -7,6 +7,7 @@ import json
 import os
 import pickle
 import tempfile
+import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -26,11 +27,30 @@ CHECKPOINT_PREFIX = "model"
 # --- run folders ---------------------------------------------------------------------------------
 
 
-def latest_model(run_dir: str | Path) -> tuple[Path, Path | None]:
-    """The newest ``(model.zip, vecnormalize.pkl)`` pair in a run folder or a policy folder.
+def model_steps(model: Path) -> int:
+    """Env steps a saved SB3 model had trained: a checkpoint's from its file name, any other
+    zip's from its ``data`` record (``num_timesteps``); ``ValueError`` naming the file when it
+    has neither."""
+    prefix = f"{CHECKPOINT_PREFIX}_"
+    if model.parent.name == CHECKPOINT_DIR and model.stem.startswith(prefix):
+        steps = model.stem.removeprefix(prefix).removesuffix("_steps")
+        if steps.isdigit():
+            return int(steps)
+    try:
+        with zipfile.ZipFile(model) as archive:
+            return int(json.loads(archive.read("data"))["num_timesteps"])
+    except (zipfile.BadZipFile, KeyError, ValueError, TypeError) as error:
+        raise ValueError(f"{model}: not an SB3 model with a step count ({error})") from None
 
-    Candidates are the final/interrupted ``model.zip`` and the checkpoints; the most recently
-    written wins. The VecNormalize path is None when the run did not normalise.
+
+def latest_model(run_dir: str | Path) -> tuple[Path, Path | None]:
+    """The ``(model.zip, vecnormalize.pkl)`` pair that trained furthest in a run or policy folder.
+
+    Candidates are the final/interrupted ``model.zip`` and the checkpoints, ranked by the env
+    steps they had trained (:func:`model_steps`), ``model.zip`` winning a tie. Not by file times:
+    a copied folder (``cp -r``, a checkout, an archive) gives every file a new one, and a resume
+    would then silently restart from an older checkpoint. The VecNormalize path is None when the
+    run did not normalise.
     """
     run_dir = Path(run_dir)
     pairs = [(run_dir / MODEL_FILE, run_dir / VECNORMALIZE_FILE)]
@@ -40,7 +60,8 @@ def latest_model(run_dir: str | Path) -> tuple[Path, Path | None]:
     pairs = [pair for pair in pairs if pair[0].is_file()]
     if not pairs:
         raise FileNotFoundError(f"no {MODEL_FILE} or checkpoint in {run_dir}")
-    model, vecnorm = max(pairs, key=lambda pair: pair[0].stat().st_mtime_ns)
+    # max keeps the first of equals: model.zip, listed first, wins a tie.
+    model, vecnorm = max(pairs, key=lambda pair: model_steps(pair[0]))
     return model, vecnorm if vecnorm.is_file() else None
 
 

@@ -282,7 +282,7 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         )
         try:
             model_path, vecnorm_path = latest_model(run_dir)
-        except FileNotFoundError as error:
+        except (FileNotFoundError, ValueError) as error:
             raise _bad("--resume", str(error)) from None
         segment = max(len(history.get("segments", [])), 1 if history else 0)
     else:

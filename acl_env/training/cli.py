@@ -123,3 +123,14 @@ def pairs_to_dict(option: str, pairs: list[tuple[str, Any]] | None) -> dict[str,
             raise argparse.ArgumentTypeError(f"argument {option}: {key!r} given twice")
         result[key] = value
     return result
+
+
+def script(main: Callable[[], object]) -> Callable[[], None]:
+    """A console-script entry point for ``main``: it runs ``main()`` and drops what it returns.
+    ``main`` returns its document for callers in Python; a console script runs
+    ``sys.exit(target())``, which would print that document and exit with status 1."""
+
+    def run() -> None:
+        main()
+
+    return run

@@ -91,7 +91,5 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     return result
 
 
-def run() -> None:
-    """Console-script entry point: :func:`main`, whose returned document is for callers in
-    Python (a console script would print a returned value and exit with status 1)."""
-    main()
+# The console script (pyproject.toml): main() without its returned document.
+run = cli.script(main)

@@ -570,7 +570,5 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     return document
 
 
-def run() -> None:
-    """Console-script entry point: :func:`main`, whose returned document is for callers in
-    Python (a console script would print a returned value and exit with status 1)."""
-    main()
+# The console script (pyproject.toml): main() without its returned document.
+run = cli.script(main)

@@ -1,22 +1,29 @@
 """Is the policy no worse than open loop across the randomisation range? Pole radius x friction.
 
-``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out] [--json PATH]
-[--tuned-gaits FILE] [--tuned-key KEY]`` evaluates the controllers of ``train/evaluate.py``
+``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out | --pole-radii
+R ...] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--tuned-gaits FILE]
+[--tuned-key KEY]`` evaluates the controllers of ``train/evaluate.py``
 (:mod:`acl_env.training.evaluate`: the policy, open-loop ACL, at the policy's cadence, rolling
 helix, tuned gait from ``--tuned-gaits``, entry ``--tuned-key``; same seeds for all) at the
-corners and centre of the training ranges of pole radius and friction, or with ``--held-out`` under
-conditions outside the training ranges (``HELD_OUT``), and prints the climb per gait cycle, slip
+corners and centre of the training ranges of pole radius and friction, with ``--held-out`` under
+conditions outside the training ranges (``HELD_OUT``), or with ``--pole-radii`` on each of those
+poles (a sweep, say towards the thin held-out pole), and prints the climb per gait cycle, slip
 per metre, largest touched arc, falls and (in the JSON) episodes ended by rolling and mean
-episode length of each.
+episode length of each. ``--env-kwargs`` applies to every cell (``roll_limit:None`` lets
+episodes run on past the roll limit, to see what the body does there). ``--plot`` draws a pole
+sweep: climb per gait cycle and the share of episodes that fell or rolled, per controller.
 """
 
 from __future__ import annotations
 
+import argparse
 import itertools
 from pathlib import Path
+from typing import Any
 
 from acl_env.evaluation import summarize
 from acl_env.training import cli
+from acl_env.training.checks import check_env_kwargs
 from acl_env.training.evaluate import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
@@ -59,6 +66,39 @@ def grid_conditions() -> list[tuple[str, dict]]:
     ]
 
 
+def radius_conditions(radii: list[float]) -> list[tuple[str, dict]]:
+    """One condition per pole radius (m), everything else at the env's defaults."""
+    return [(f"pole radius {radius:g} m", {"pole_radius": radius}) for radius in radii]
+
+
+def plot_sweep(rows: list[dict], path: Path) -> None:
+    """Climb per gait cycle (cm) and the share of episodes that fell or rolled past
+    ``roll_limit``, against the pole radius, one line per controller (rows of a ``--pole-radii``
+    sweep, in order)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    radii = [100.0 * row["overrides"]["pole_radius"] for row in rows]
+    names = [key for key in rows[0] if key not in ("condition", "overrides")]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 5.6), sharex=True)
+    for name in names:
+        climb = [100.0 * row[name]["climb_per_gait_cycle_m"] for row in rows]
+        ended = [(row[name]["falls"] + row[name]["rolled"]) / row[name]["episodes"] for row in rows]
+        top.plot(radii, climb, marker="o", label=name)
+        bottom.plot(radii, ended, marker="o", label=name)
+    top.axhline(0.0, color="0.6", lw=0.8)
+    top.set_ylabel("climb per gait cycle (cm)")
+    bottom.set_ylabel("share of episodes fallen or rolled")
+    bottom.set_xlabel("pole radius (cm)")
+    bottom.set_ylim(-0.05, 1.05)
+    top.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main(argv: list[str] | None = None) -> list[dict]:
     parser = cli.ArgumentParser(prog="policy_robustness.py", description=__doc__.splitlines()[0])
     parser.add_argument("--policy", type=cli.existing_dir, default=DEFAULT_POLICY)
@@ -70,30 +110,77 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument(
         "--tuned-key", default=None, help="entry of --tuned-gaits (default: acl or acl_noroll)"
     )
-    parser.add_argument(
+    cells = parser.add_mutually_exclusive_group()
+    cells.add_argument(
         "--held-out", action="store_true", help="conditions outside the training ranges"
+    )
+    cells.add_argument(
+        "--pole-radii",
+        type=cli.positive_float,
+        nargs="+",
+        metavar="R",
+        help="one cell per pole radius (m), at default friction",
+    )
+    parser.add_argument(
+        "--env-kwargs",
+        type=cli.key_value,
+        nargs="*",
+        default=[],
+        metavar="KEY:VALUE",
+        help="env arguments for every cell (e.g. roll_limit:None)",
     )
     parser.add_argument(
         "--json", type=cli.output_file(".json"), help="write the rows to this JSON file"
     )
+    parser.add_argument(
+        "--plot",
+        type=cli.output_file(".png", ".pdf", ".svg"),
+        help="with --pole-radii: climb and episodes ended against the radius",
+    )
     args = parser.parse_args(argv)
-    conditions = list(HELD_OUT) if args.held_out else grid_conditions()
+    if args.plot is not None and args.pole_radii is None:
+        parser.error("argument --plot: draws a --pole-radii sweep; give --pole-radii")
+    try:
+        shared: dict[str, Any] = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+    except argparse.ArgumentTypeError as error:
+        parser.error(str(error))
+    if args.pole_radii is not None and "pole_radius" in shared:
+        parser.error("argument --env-kwargs: pole_radius is what --pole-radii sweeps")
+    if args.held_out:
+        conditions = list(HELD_OUT)
+    elif args.pole_radii is not None:
+        conditions = radius_conditions(args.pole_radii)
+    else:
+        conditions = grid_conditions()
     try:
         folder = read_policy_folder(args.policy)
     except ValueError as error:
         parser.error(f"argument --policy: {error}")
     try:  # a tuned-gaits file that is not one: refused before any episode
-        _, notes = build_controllers(folder, {}, None, args.tuned_gaits, args.tuned_key)
+        _, notes = build_controllers(folder, shared, None, args.tuned_gaits, args.tuned_key)
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
     if args.tuned_key is not None and any(n.startswith("open_loop_tuned: skipped") for n in notes):
         parser.error(f"argument --tuned-key: no {args.tuned_key!r} in {args.tuned_gaits}")
+    # Every env made once, so that a bad argument is refused before any episode: --env-kwargs
+    # alone first (at the env's defaults), then each cell.
+    for flag, label, overrides in [
+        ("--env-kwargs", "", {}),
+        *(("--pole-radii", f"{label}: ", overrides) for label, overrides in conditions),
+    ]:
+        for controller in build_controllers(
+            folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
+        )[0]:
+            try:
+                check_env_kwargs(controller.env_id, controller.env_kwargs).close()
+            except ValueError as error:
+                parser.error(f"argument {flag}: {label}{controller.name}: {error}")
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
     for label, overrides in conditions:
         controllers, notes = build_controllers(
-            folder, overrides, None, args.tuned_gaits, args.tuned_key
+            folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
         )
         results = evaluate(controllers, seeds, progress=False, pool=pool)
         row: dict = {"condition": label, "overrides": overrides}
@@ -103,6 +190,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
             row[name]["falls"] = summary["falls"]["count"]
             row[name]["rolled"] = summary["rolled"]
             row[name]["mean_steps"] = sum(e.steps for e in episodes) / len(episodes)
+            row[name]["episodes"] = len(episodes)
         if not rows:
             names = list(results)
             print("\n".join(note for note in notes if "skipped" in note))
@@ -118,6 +206,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         pool.shutdown()
     if args.json:
         write_json(args.json, rows)
+    if args.plot:
+        plot_sweep(rows, args.plot)
+        print(f"wrote {args.plot}")
     return rows
 
 

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import re
+import runpy
 from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -13,7 +16,9 @@ from gymnasium.utils.env_checker import check_env
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, NOROLL_KWARGS
 from acl_env.evaluation import run_episode, summarize, zero_policy
 
-TUNED_GAITS = Path(__file__).resolve().parents[1] / "train" / "configs" / "tuned_gaits.yml"
+ROOT = Path(__file__).resolve().parents[1]
+TUNED_GAITS = ROOT / "train" / "configs" / "tuned_gaits.yml"
+SHIPPED_NOROLL = ROOT / "train" / "policies" / "acl_climb_noroll_ppo"
 
 SHORT = {"steps_per_cycle": 40, "cycles_per_episode": 2}  # 40 keyframes: ~9 deg of roll per step
 
@@ -250,3 +255,61 @@ def test_climb_gait_holds_the_thinnest_training_pole(seed: int) -> None:
     assert steps == 2 * SHORT["steps_per_cycle"]
     assert not info["rolled"] and not info["fell"]
     assert info["roll_span_deg"] < NOROLL_KWARGS["roll_limit"]
+
+
+def _robustness() -> dict[str, Any]:
+    """The functions of benchmarks/policy_robustness.py (a script, not a module of the package)."""
+    return runpy.run_path(str(ROOT / "benchmarks" / "policy_robustness.py"), run_name="robustness")
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--plot", "{tmp}/sweep.png"], r"argument --plot: draws a --pole-radii sweep"),
+        (["--held-out", "--pole-radii", "0.06"], r"--pole-radii: not allowed with .*--held-out"),
+        (
+            ["--pole-radii", "0.06", "--env-kwargs", "pole_radius:0.07"],
+            r"argument --env-kwargs: pole_radius is what --pole-radii sweeps",
+        ),
+        (
+            ["--pole-radii", "0.06", "0.6"],
+            r"argument --pole-radii: pole radius 0.6 m: policy: .*pole_radius must be in",
+        ),
+        (
+            ["--pole-radii", "0.06", "--env-kwargs", "roll_limit:-3"],
+            r"argument --env-kwargs: policy: .*roll_limit must be in",
+        ),
+    ],
+)
+def test_pole_sweep_refuses_a_bad_argument_before_any_episode(
+    args: list[str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["--policy", str(SHIPPED_NOROLL), *(a.format(tmp=tmp_path) for a in args)]
+    with pytest.raises(SystemExit) as exit_:
+        _robustness()["main"](argv)
+    assert exit_.value.code == 2
+    assert re.search(message, capsys.readouterr().err)
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_pole_sweep_has_one_cell_per_radius_and_plots_each_controller(tmp_path: Path) -> None:
+    robustness = _robustness()
+    conditions = robustness["radius_conditions"]([0.055, 0.06])
+    assert conditions == [
+        ("pole radius 0.055 m", {"pole_radius": 0.055}),
+        ("pole radius 0.06 m", {"pole_radius": 0.06}),
+    ]
+    rows = [
+        {
+            "condition": label,
+            "overrides": overrides,
+            **{
+                name: {"climb_per_gait_cycle_m": climb, "falls": 0, "rolled": rolled, "episodes": 5}
+                for name in ("policy", "open_loop_tuned")
+            },
+        }
+        for (label, overrides), climb, rolled in zip(conditions, (0.02, 0.04), (5, 1), strict=True)
+    ]
+    path = tmp_path / "sweep.png"
+    robustness["plot_sweep"](rows, path)
+    assert path.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")

@@ -8,10 +8,12 @@ helix, tuned gait from ``--tuned-gaits``, entry ``--tuned-key``; same seeds for 
 corners and centre of the training ranges of pole radius and friction, with ``--held-out`` under
 conditions outside the training ranges (``HELD_OUT``), or with ``--pole-radii`` on each of those
 poles (a sweep, say towards the thin held-out pole), and prints the climb per gait cycle, slip
-per metre, largest touched arc, falls and (in the JSON) episodes ended by rolling and mean
-episode length of each. ``--env-kwargs`` applies to every cell (``roll_limit:None`` lets
-episodes run on past the roll limit, to see what the body does there). ``--plot`` draws a pole
-sweep: climb per gait cycle and the share of episodes that fell or rolled, per controller.
+per metre, largest touched arc, falls and (in the JSON) episodes ended by rolling, mean
+episode length and the share of its base gait's joint commands that the joint limit clips in
+that cell (``gait.saturation``) of each. ``--env-kwargs`` applies to every cell
+(``roll_limit:None`` lets episodes run on past the roll limit, to see what the body does
+there). ``--plot`` draws a pole sweep: climb per gait cycle, the share of episodes that fell or
+rolled and the clipped share, per controller.
 """
 
 from __future__ import annotations
@@ -66,15 +68,20 @@ def grid_conditions() -> list[tuple[str, dict]]:
     ]
 
 
+def overrides_key(overrides: dict) -> str:
+    """A cell's overrides as a hashable key."""
+    return repr(sorted(overrides.items()))
+
+
 def radius_conditions(radii: list[float]) -> list[tuple[str, dict]]:
     """One condition per pole radius (m), everything else at the env's defaults."""
     return [(f"pole radius {radius:g} m", {"pole_radius": radius}) for radius in radii]
 
 
 def plot_sweep(rows: list[dict], path: Path) -> None:
-    """Climb per gait cycle (cm) and the share of episodes that fell or rolled past
-    ``roll_limit``, against the pole radius, one line per controller (rows of a ``--pole-radii``
-    sweep, in order)."""
+    """Climb per gait cycle (cm), the share of episodes that fell or rolled past ``roll_limit``
+    and the share of the base gait's joint commands clipped at the joint limit, against the pole
+    radius, one line per controller (rows of a ``--pole-radii`` sweep, in order)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -82,17 +89,21 @@ def plot_sweep(rows: list[dict], path: Path) -> None:
 
     radii = [100.0 * row["overrides"]["pole_radius"] for row in rows]
     names = [key for key in rows[0] if key not in ("condition", "overrides")]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 5.6), sharex=True)
+    fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(6.4, 7.6), sharex=True)
     for name in names:
         climb = [100.0 * row[name]["climb_per_gait_cycle_m"] for row in rows]
-        ended = [(row[name]["falls"] + row[name]["rolled"]) / row[name]["episodes"] for row in rows]
+        ended = [row[name]["fell_or_rolled"] / row[name]["episodes"] for row in rows]
+        clipped = [row[name].get("gait_clipped_share") for row in rows]
         top.plot(radii, climb, marker="o", label=name)
-        bottom.plot(radii, ended, marker="o", label=name)
+        middle.plot(radii, ended, marker="o", label=name)
+        if all(c is not None for c in clipped):
+            bottom.plot(radii, clipped, marker="o", label=name)
     top.axhline(0.0, color="0.6", lw=0.8)
     top.set_ylabel("climb per gait cycle (cm)")
-    bottom.set_ylabel("share of episodes fallen or rolled")
+    middle.set_ylabel("share of episodes\nfallen or rolled")
+    middle.set_ylim(-0.05, 1.05)
+    bottom.set_ylabel("share of base gait's\njoint commands clipped")
     bottom.set_xlabel("pole radius (cm)")
-    bottom.set_ylim(-0.05, 1.05)
     top.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -163,7 +174,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     if args.tuned_key is not None and any(n.startswith("open_loop_tuned: skipped") for n in notes):
         parser.error(f"argument --tuned-key: no {args.tuned_key!r} in {args.tuned_gaits}")
     # Every env made once, so that a bad argument is refused before any episode: --env-kwargs
-    # alone first (at the env's defaults), then each cell.
+    # alone first (at the env's defaults), then each cell. Each gait's clipped share is read there.
+    clipped: dict[tuple[str, str], float] = {}
     for flag, label, overrides in [
         ("--env-kwargs", "", {}),
         *(("--pole-radii", f"{label}: ", overrides) for label, overrides in conditions),
@@ -172,9 +184,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
             folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
         )[0]:
             try:
-                check_env_kwargs(controller.env_id, controller.env_kwargs).close()
+                env = check_env_kwargs(controller.env_id, controller.env_kwargs)
             except ValueError as error:
                 parser.error(f"argument {flag}: {label}{controller.name}: {error}")
+            gait = getattr(env.unwrapped, "gait", None)
+            if gait is not None:
+                clipped[overrides_key(overrides), controller.name] = gait.saturation.sample_fraction
+            env.close()
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
@@ -191,6 +207,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
             row[name]["rolled"] = summary["rolled"]
             row[name]["mean_steps"] = sum(e.steps for e in episodes) / len(episodes)
             row[name]["episodes"] = len(episodes)
+            row[name]["fell_or_rolled"] = sum(e.fell or e.rolled for e in episodes)
+            row[name]["gait_clipped_share"] = clipped.get((overrides_key(overrides), name))
         if not rows:
             names = list(results)
             print("\n".join(note for note in notes if "skipped" in note))

@@ -304,7 +304,14 @@ def test_pole_sweep_has_one_cell_per_radius_and_plots_each_controller(tmp_path: 
             "condition": label,
             "overrides": overrides,
             **{
-                name: {"climb_per_gait_cycle_m": climb, "falls": 0, "rolled": rolled, "episodes": 5}
+                name: {
+                    "climb_per_gait_cycle_m": climb,
+                    "falls": 0,
+                    "rolled": rolled,
+                    "episodes": 5,
+                    "fell_or_rolled": rolled,
+                    "gait_clipped_share": 0.1,
+                }
                 for name in ("policy", "open_loop_tuned")
             },
         }

@@ -23,6 +23,8 @@ import itertools
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from acl_env.evaluation import summarize
 from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
@@ -54,6 +56,7 @@ HELD_OUT: tuple[tuple[str, dict], ...] = (
     ("mass 0.8x", {"domain_randomization": {"mass_scale": [0.8, 0.8]}}),
     ("mass 1.2x", {"domain_randomization": {"mass_scale": [1.2, 1.2]}}),
 )
+CLIMB_FLOOR_CM = -5.0  # the sweep plot's climb axis starts here (a fall reads as metres down)
 COLUMNS = ("climb_per_gait_cycle_m", "slip_per_m", "touched_arc_deg")
 
 
@@ -91,20 +94,26 @@ def plot_sweep(rows: list[dict], path: Path) -> None:
     names = [key for key in rows[0] if key not in ("condition", "overrides")]
     fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(6.4, 7.6), sharex=True)
     for name in names:
-        climb = [100.0 * row[name]["climb_per_gait_cycle_m"] for row in rows]
-        ended = [row[name]["fell_or_rolled"] / row[name]["episodes"] for row in rows]
+        climb = np.array([100.0 * row[name]["climb_per_gait_cycle_m"] for row in rows])
+        ended = np.array([row[name]["fell_or_rolled"] / row[name]["episodes"] for row in rows])
         clipped = [row[name].get("gait_clipped_share") for row in rows]
-        top.plot(radii, climb, marker="o", label=name)
-        middle.plot(radii, ended, marker="o", label=name)
+        # A fall reads as metres of "climb" per cycle: clip the axis, not the story.
+        shown = np.maximum(climb, CLIMB_FLOOR_CM)
+        (line,) = top.plot(radii, shown, label=name)
+        colour = line.get_color()
+        whole = ended == 0
+        top.plot(np.array(radii)[whole], shown[whole], "o", color=colour)
+        top.plot(np.array(radii)[~whole], shown[~whole], "o", mfc="none", color=colour)
+        middle.plot(radii, ended, marker="o", color=colour, label=name)
         if all(c is not None for c in clipped):
-            bottom.plot(radii, clipped, marker="o", label=name)
+            bottom.plot(radii, clipped, marker="o", color=colour, label=name)
     top.axhline(0.0, color="0.6", lw=0.8)
-    top.set_ylabel("climb per gait cycle (cm)")
+    top.set_ylabel(f"climb per gait cycle (cm)\nhollow: some ended early; floor {CLIMB_FLOOR_CM:g}")
     middle.set_ylabel("share of episodes\nfallen or rolled")
     middle.set_ylim(-0.05, 1.05)
     bottom.set_ylabel("share of base gait's\njoint commands clipped")
     bottom.set_xlabel("pole radius (cm)")
-    top.legend(fontsize=7)
+    middle.legend(fontsize=7, loc="center right")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -226,6 +226,8 @@ NOROLL_CLIMB_GAITS = {
     "ablations/noroll_climb_gait.yml": "tuned_gaits_noroll_climb.yml",
     "ablations/noroll_climb_rerun_gait.yml": "tuned_gaits_noroll_climb_rerun.yml",
     "ablations/noroll_wide_range_warm.yml": "tuned_gaits_noroll_climb.yml",
+    "ablations/noroll_thin_pole_warm.yml": "tuned_gaits_noroll_climb.yml",
+    "ablations/noroll_roll_margin_warm.yml": "tuned_gaits_noroll_climb.yml",
 }
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
 

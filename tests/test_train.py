@@ -220,14 +220,22 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
 # README evaluates them under the shipped weights, against the open loop tuned for those.
 SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
 # Non-rolling runs whose objective is the climb (slip 0), on a gait a climb study found, as
-# ppo.yml's shipped non-rolling recipe; the roll term stays. Recipe -> that study's gaits file.
+# ppo.yml's shipped non-rolling recipe; the roll term stays. Recipe -> that study's gaits file
+# and entry.
 NOROLL_CLIMB_GAITS = {
-    "ppo.yml": "tuned_gaits_noroll_climb.yml",
-    "ablations/noroll_climb_gait.yml": "tuned_gaits_noroll_climb.yml",
-    "ablations/noroll_climb_rerun_gait.yml": "tuned_gaits_noroll_climb_rerun.yml",
-    "ablations/noroll_wide_range_warm.yml": "tuned_gaits_noroll_climb.yml",
-    "ablations/noroll_thin_pole_warm.yml": "tuned_gaits_noroll_climb.yml",
-    "ablations/noroll_roll_margin_warm.yml": "tuned_gaits_noroll_climb.yml",
+    "ppo.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_climb_gait.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_climb_rerun_gait.yml": (
+        "tuned_gaits_noroll_climb_rerun.yml",
+        "acl_noroll_climb",
+    ),
+    "ablations/noroll_wide_range_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_thin_pole_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_roll_margin_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_thin_gait.yml": (
+        "tuned_gaits_noroll_climb_thin.yml",
+        "acl_noroll_climb_thin",
+    ),
 }
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
 
@@ -257,9 +265,8 @@ def test_noroll_climb_recipe_plays_the_climb_studys_gait(recipe: str) -> None:
     found, and train for that study's objective, the climb (slip weight 0; the registered roll
     term kept), so its open loop is the best gait for the same objective."""
     hyperparams = config.load_hyperparams(TRAIN / "configs" / recipe, ACL_CLIMB_NOROLL_ID)
-    gaits = TRAIN / "configs" / NOROLL_CLIMB_GAITS[recipe]
-    climb = yaml.safe_load(gaits.read_text())
-    entry = climb["acl_noroll_climb"]
+    gaits, key = NOROLL_CLIMB_GAITS[recipe]
+    entry = yaml.safe_load((TRAIN / "configs" / gaits).read_text())[key]
     assert entry["objective"] == "climb_per_gait_cycle_m"
     assert entry["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 0
     for key in ("squeeze", "gait_kwargs"):

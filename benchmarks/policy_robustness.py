@@ -71,11 +71,6 @@ def grid_conditions() -> list[tuple[str, dict]]:
     ]
 
 
-def overrides_key(overrides: dict) -> str:
-    """A cell's overrides as a hashable key."""
-    return repr(sorted(overrides.items()))
-
-
 def radius_conditions(radii: list[float]) -> list[tuple[str, dict]]:
     """One condition per pole radius (m), everything else at the env's defaults."""
     return [(f"pole radius {radius:g} m", {"pole_radius": radius}) for radius in radii]
@@ -183,12 +178,14 @@ def main(argv: list[str] | None = None) -> list[dict]:
     if args.tuned_key is not None and any(n.startswith("open_loop_tuned: skipped") for n in notes):
         parser.error(f"argument --tuned-key: no {args.tuned_key!r} in {args.tuned_gaits}")
     # Every env made once, so that a bad argument is refused before any episode: --env-kwargs
-    # alone first (at the env's defaults), then each cell. Each gait's clipped share is read there.
-    clipped: dict[tuple[str, str], float] = {}
+    # alone first (at the env's defaults), then each cell, whose gaits' clipped shares
+    # (controller name -> share, one mapping per cell) are read there.
+    clipped: list[dict[str, float]] = []
     for flag, label, overrides in [
         ("--env-kwargs", "", {}),
         *(("--pole-radii", f"{label}: ", overrides) for label, overrides in conditions),
     ]:
+        shares = {}
         for controller in build_controllers(
             folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
         )[0]:
@@ -198,12 +195,14 @@ def main(argv: list[str] | None = None) -> list[dict]:
                 parser.error(f"argument {flag}: {label}{controller.name}: {error}")
             gait = getattr(env.unwrapped, "gait", None)
             if gait is not None:
-                clipped[overrides_key(overrides), controller.name] = gait.saturation.sample_fraction
+                shares[controller.name] = gait.saturation.sample_fraction
             env.close()
+        clipped.append(shares)
+    clipped = clipped[1:]  # the cells only
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
-    for label, overrides in conditions:
+    for (label, overrides), shares in zip(conditions, clipped, strict=True):
         controllers, notes = build_controllers(
             folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
         )
@@ -217,7 +216,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
             row[name]["mean_steps"] = sum(e.steps for e in episodes) / len(episodes)
             row[name]["episodes"] = len(episodes)
             row[name]["fell_or_rolled"] = sum(e.fell or e.rolled for e in episodes)
-            row[name]["gait_clipped_share"] = clipped.get((overrides_key(overrides), name))
+            row[name]["gait_clipped_share"] = shares.get(name)
         if not rows:
             names = list(results)
             print("\n".join(note for note in notes if "skipped" in note))

@@ -10,6 +10,7 @@ to tail, even joints dorsal about y, odd joints lateral about z. Every element i
 from __future__ import annotations
 
 from importlib import resources
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -137,3 +138,42 @@ def build_model(
 def snake_geom_ids(model: mujoco.MjModel, n_joints: int) -> np.ndarray:
     """Geom ids of the module shells, head first."""
     return np.array([model.geom(shell_name(k)).id for k in range(n_joints + 1)])
+
+
+CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
+PHYSICS_OPTIONS = (
+    "cone",
+    "refsafe",
+    "contact_timeconst",
+    "solimp",
+    "iterations",
+    "tolerance",
+    "ls_iterations",
+    "ls_tolerance",
+    "impratio",
+)
+
+
+def apply_physics_options(model: mujoco.MjModel, options: dict[str, Any]) -> None:
+    """Write physics overrides into a built ``model`` (diagnostics: the fidelity panel, the
+    contact sensitivity of a policy). ``cone``: "elliptic" or "pyramidal"; ``refsafe=False``
+    disables MuJoCo's clamp of contact time constants to >= 2 timesteps; ``contact_timeconst``:
+    the shells' and pole's solref time constant (s); ``solimp``: every geom's impedance
+    ``(d_min, d_max)``; the solver's ``iterations``, ``tolerance``, ``ls_iterations``,
+    ``ls_tolerance`` and ``impratio`` as in ``MjOption``. ``ValueError`` names an unknown key."""
+    for key, value in options.items():
+        if key == "cone":
+            model.opt.cone = CONES[value]
+        elif key == "refsafe":
+            if not value:
+                model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_REFSAFE
+        elif key == "contact_timeconst":
+            model.geom_solref[model.geom_solref[:, 0] == CONTACT_TIMECONST, 0] = value
+        elif key == "solimp":
+            model.geom_solimp[:, :2] = value
+        elif key in ("iterations", "tolerance", "ls_iterations", "ls_tolerance", "impratio"):
+            setattr(model.opt, key, value)
+        else:
+            raise ValueError(
+                f"unknown physics option {key!r} (known: {', '.join(PHYSICS_OPTIONS)})"
+            )

@@ -26,14 +26,14 @@ from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
-import mujoco
 import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
-from acl_env.constants import CONTACT_TIMECONST, FIDELITY_TOLERANCES, PHYSICS_TIMESTEP
+from acl_env.constants import FIDELITY_TOLERANCES, PHYSICS_TIMESTEP
 from acl_env.envs import termination
 from acl_env.evaluation import run_episode
+from acl_env.model import apply_physics_options
 from acl_env.training import cli
 from acl_env.training.runs import write_json
 
@@ -103,25 +103,6 @@ TOLERANCES = {
     "energy": FIDELITY_TOLERANCES["energy_per_m"],
 }
 RESIDUAL_SEED = 12345  # the random residual sequence is the same under every setting
-CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
-
-
-def apply_options(model: mujoco.MjModel, options: dict[str, Any]) -> None:
-    """Write a setting's ``MjOption`` overrides into ``model``."""
-    for key, value in options.items():
-        if key == "cone":
-            model.opt.cone = CONES[value]
-        elif key == "refsafe":
-            if not value:
-                model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_REFSAFE
-        elif key == "contact_timeconst":  # the shells' and the pole's solref time constant
-            model.geom_solref[model.geom_solref[:, 0] == CONTACT_TIMECONST, 0] = value
-        elif key == "solimp":
-            model.geom_solimp[:, :2] = value  # (d_min, d_max) of every geom
-        elif key in ("iterations", "tolerance", "ls_iterations", "ls_tolerance", "impratio"):
-            setattr(model.opt, key, value)
-        else:
-            raise ValueError(f"unknown physics option {key!r}")
 
 
 def rollout(condition: Condition, setting: Setting, seed: int, cycles: int) -> dict[str, float]:
@@ -133,7 +114,7 @@ def rollout(condition: Condition, setting: Setting, seed: int, cycles: int) -> d
         **condition.kwargs,
     )
     base = env.unwrapped
-    apply_options(base.model, setting.options)
+    apply_physics_options(base.model, setting.options)
     steps = base.steps_per_cycle * cycles
     rng = np.random.default_rng(RESIDUAL_SEED + seed)
     actions = condition.action_std * rng.standard_normal((steps, *env.action_space.shape))
@@ -170,7 +151,7 @@ def step_costs(settings: list[str], steps: int, rounds: int) -> dict[str, float]
     for name in settings:
         setting = SETTINGS[name]
         env = gym.make(ACL_CLIMB_ID, timestep=setting.timestep).unwrapped
-        apply_options(env.model, setting.options)
+        apply_physics_options(env.model, setting.options)
         env.reset(seed=0)
         envs[name] = env
     costs: dict[str, list[float]] = {name: [] for name in settings}

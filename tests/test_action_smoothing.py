@@ -1,0 +1,97 @@
+"""benchmarks/action_smoothing.py and the physics overrides it applies (acl_env.model)."""
+
+from __future__ import annotations
+
+import json
+import re
+import runpy
+from pathlib import Path
+from typing import Any
+
+import mujoco
+import numpy as np
+import pytest
+
+from acl_env.constants import CONTACT_TIMECONST, POLE_GEOM, shell_name
+from acl_env.model import apply_physics_options, build_model
+
+ROOT = Path(__file__).resolve().parents[1]
+SHIPPED_NOROLL = ROOT / "train" / "policies" / "acl_climb_noroll_ppo"
+
+
+def _smoothing() -> dict[str, Any]:
+    """The functions of benchmarks/action_smoothing.py (a script, not a module of the package)."""
+    return runpy.run_path(str(ROOT / "benchmarks" / "action_smoothing.py"), run_name="smoothing")
+
+
+def test_contact_timeconst_reaches_shells_and_pole_and_nothing_else() -> None:
+    model = build_model()
+    before = model.geom_solref.copy()
+    apply_physics_options(model, {"contact_timeconst": 0.002, "impratio": 20.0})
+    changed = np.flatnonzero(model.geom_solref[:, 0] != before[:, 0])
+    names = {mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) for i in changed}
+    assert POLE_GEOM in names and shell_name(0) in names
+    assert np.all(before[changed, 0] == CONTACT_TIMECONST)
+    assert np.all(model.geom_solref[changed, 0] == 0.002)
+    assert model.opt.impratio == 20.0
+
+
+def test_unknown_physics_option_is_refused_naming_it() -> None:
+    with pytest.raises(ValueError, match=r"unknown physics option 'stiffness'.*contact_timeconst"):
+        apply_physics_options(build_model(), {"stiffness": 1.0})
+
+
+def test_held_policy_commands_every_k_steps_from_the_reset() -> None:
+    held = _smoothing()["held"]
+    calls: list[float] = []
+
+    def policy(obs: np.ndarray) -> np.ndarray:
+        calls.append(float(obs[0]))
+        return obs.copy()
+
+    act = held(policy, 3)
+    out = [float(act(np.array([t], dtype=float))[0]) for t in range(7)]
+    assert out == [0, 0, 0, 3, 3, 3, 6]
+    assert calls == [0, 3, 6]
+
+
+def test_chatter_tells_flipping_from_a_smooth_residual() -> None:
+    chatter = _smoothing()["chatter"]
+    t = np.arange(440)
+    flipping = np.where(t % 2 == 0, 1.0, -1.0)[:, None] * np.ones((1, 3))
+    smooth = np.sin(2 * np.pi * t / 220)[:, None] * np.ones((1, 3))
+    step, share = chatter(flipping)
+    assert step == pytest.approx(2.0)
+    assert share > 0.99
+    step, share = chatter(smooth)
+    assert step < 0.03
+    assert share < 0.01
+
+
+def test_contact_under_two_steps_is_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    argv = ["--policy", str(SHIPPED_NOROLL), "--timestep", "0.002", "--contact-timeconsts", "0.003"]
+    with pytest.raises(SystemExit) as exit_:
+        _smoothing()["main"](argv)
+    assert exit_.value.code == 2
+    assert re.search(r"--contact-timeconsts 0.003 is under two --timestep", capsys.readouterr().err)
+
+
+def test_rows_cover_every_setting_and_controller(tmp_path: Path) -> None:
+    out = tmp_path / "smoothing.json"
+    argv = [
+        "--policy", str(SHIPPED_NOROLL), "--episodes", "1", "--holds", "1", "2",
+        "--timestep", "0.002", "--contact-timeconsts", "0.004",
+        "--env-kwargs", "cycles_per_episode:1", "--json", str(out), "--no-progress-bar",
+    ]  # fmt: skip
+    document = _smoothing()["main"](argv)
+    rows = json.loads(out.read_text())["rows"]
+    assert [(r["physics"], r["controller"]) for r in rows] == [
+        (physics, controller)
+        for physics in ("the env's physics", "2 ms step, 4 ms contact")
+        for controller in ("policy", "policy, held 2", "zero action (its gait)")
+    ]
+    means = [r["climb_per_gait_cycle_m"]["mean"] for r in rows]
+    assert means == [r["climb_per_gait_cycle_m"]["mean"] for r in document["rows"]]
+    zero = [r for r in rows if r["controller"].startswith("zero")]
+    assert all(r["action_step"] == 0.0 for r in zero)
+    assert all(np.isfinite(r["climb_per_gait_cycle_m"]["mean"]) for r in rows)

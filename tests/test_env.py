@@ -107,14 +107,18 @@ def test_pickled_env_reproduces_reset_and_step() -> None:
 
 
 def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
-    env = gym.make(ACL_CLIMB_ID, reward_weights={"climb": 2.0, "slip": 3.0, "energy": 1e-3})
+    weights = {"climb": 2.0, "slip": 3.0, "energy": 1e-3, "action_rate": 0.5}
+    env = gym.make(ACL_CLIMB_ID, reward_weights=weights)
     obs, _ = env.reset(seed=0)
     assert env.observation_space.contains(obs)
     rng = np.random.default_rng(2)
+    last = np.zeros(20)  # the step after a reset compares with a zero action
     for _ in range(30):
-        obs, reward, _, _, info = env.step(env.action_space.sample() * 0 + rng.uniform(-1, 1, 20))
+        action = rng.uniform(-1.5, 1.5, 20)  # partly outside the box: the clipped action counts
+        obs, reward, _, _, info = env.step(action)
         terms = [v for k, v in info.items() if k.startswith("reward_")]
         assert sorted(k for k in info if k.startswith("reward_")) == [
+            "reward_action_rate",
             "reward_climb",
             "reward_energy",
             "reward_roll",
@@ -125,8 +129,23 @@ def test_reward_is_sum_of_terms_and_obs_in_space() -> None:
         assert info["reward_energy"] == -1e-3 * info["energy"] < 0.0
         assert info["reward_climb"] == 2.0 * info["climb"]
         assert info["reward_slip"] == -3.0 * info["slip"]
+        clipped = np.clip(action, -1.0, 1.0)
+        assert info["action_rate"] == pytest.approx(np.mean((clipped - last) ** 2), rel=1e-12)
+        assert info["reward_action_rate"] == -0.5 * info["action_rate"] < 0.0
+        last = clipped
         assert info["slip"] >= 0.0 and info["energy"] >= 0.0
         assert np.all(np.isfinite(obs)) and env.observation_space.contains(obs)
+
+
+def test_action_rate_restarts_from_zero_at_reset() -> None:
+    env = gym.make(ACL_CLIMB_ID)
+    env.reset(seed=0)
+    env.step(np.ones(20))
+    _, _, _, _, info = env.step(np.ones(20))
+    assert info["action_rate"] == 0.0 and info["reward_action_rate"] == 0.0  # weight 0: off
+    env.reset(seed=1)
+    _, _, _, _, info = env.step(np.full(20, 0.5))
+    assert info["action_rate"] == pytest.approx(0.25)
 
 
 def test_zero_action_is_the_open_loop_gait_and_residual_is_clipped() -> None:

@@ -60,7 +60,13 @@ def test_roll_term_in_info_and_reward_is_sum_of_terms() -> None:
     for _ in range(20):
         _, reward, terminated, _, info = env.step(rng.uniform(-1, 1, 20).astype(np.float32))
         terms = {k: v for k, v in info.items() if k.startswith("reward_")}
-        assert set(terms) == {"reward_climb", "reward_slip", "reward_roll", "reward_energy"}
+        assert set(terms) == {
+            "reward_climb",
+            "reward_slip",
+            "reward_roll",
+            "reward_energy",
+            "reward_action_rate",
+        }
         assert reward == sum(terms.values())
         assert info["reward_roll"] == -weight * info["roll"] and info["roll"] >= 0.0
         grew += info["roll"]

@@ -232,12 +232,15 @@ NOROLL_CLIMB_GAITS = {
     "ablations/noroll_wide_range_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_thin_pole_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_roll_margin_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_action_rate.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_thin_gait.yml": (
         "tuned_gaits_noroll_climb_thin.yml",
         "acl_noroll_climb_thin",
     ),
 }
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
+# Terms a climb recipe adds to the climb objective's weights (a shaping ablation).
+NOROLL_CLIMB_EXTRA_WEIGHTS = {"ablations/noroll_action_rate.yml": {"action_rate": 0.001}}
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))
@@ -274,6 +277,7 @@ def test_noroll_climb_recipe_plays_the_climb_studys_gait(recipe: str) -> None:
     assert hyperparams["env_kwargs"]["reward_weights"] == {
         **NOROLL_KWARGS["reward_weights"],
         "slip": 0.0,
+        **NOROLL_CLIMB_EXTRA_WEIGHTS.get(recipe, {}),
     }
 
 

@@ -157,7 +157,11 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     ``reward_weights`` (default 1 and 1), and ``reward_roll = -w_roll * roll`` (default weight 0,
     so off): the growth over the step of the range each module's roll has swept since the
     episode started, mean over modules (rad; see "Body roll"), and ``reward_energy =
-    -w_energy * energy`` (default weight 0: off): the actuator work of the step (J).
+    -w_energy * energy`` (default weight 0: off): the actuator work of the step (J), and
+    ``reward_action_rate = -w_action_rate * action_rate`` (default weight 0: off): the action's
+    squared change since the last step, summed over its entries and divided by the number of
+    joints (action units; the mean over a joints-only action; the step after a reset compares
+    with a zero action), ``info["action_rate"]``.
     ``info`` carries every ``reward_<term>``, the raw ``climb``, ``slip`` and ``roll``,
     ``energy`` (J: actuator work sum |tau qdot| dt, as spent by motors that do not regenerate),
     ``com_height``, ``phase`` (cycles) and ``phase_rate`` (keyframes advanced, 1 unless
@@ -574,6 +578,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
         self._step_count = 0
+        self._last_action = np.zeros(self.action_space.shape)
         # "none" starts from the ACL gait's pose: the ablation must still begin on the pole.
         start_gait = self.gait or self._make_gait(pole_radius, "acl")
         phase0 = self._k0 / self.steps_per_cycle
@@ -624,9 +629,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Play one keyframe (0.1 s) of the gait plus the residual.
 
-        reward = w_climb * climb - w_slip * slip - w_roll * roll - w_energy * energy: the
-        centre-of-mass rise, the mean sliding distance of the snake-pole contacts, the growth of
-        the body's swept roll and the actuator work over the step (``envs/rewards.py``; ``info``
+        reward = w_climb * climb - w_slip * slip - w_roll * roll - w_energy * energy
+        - w_action_rate * action_rate: the centre-of-mass rise, the mean sliding distance of the
+        snake-pole contacts, the growth of the body's swept roll, the actuator work over the step
+        and the action's squared change (``envs/rewards.py``; ``info``
         holds every weighted term).
         """
         action = np.asarray(action, dtype=np.float64)
@@ -637,6 +643,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         if not np.isfinite(action).all():
             raise ValueError(f"action must be finite, got {action}")
         action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its dispatch
+        # per joint, so that extra entries held at zero (modulation, cadence) leave it unchanged
+        change, n = action - self._last_action, self.n_joints
+        action_rate = float(change[:n] @ change[:n] + change[n:] @ change[n:]) / n
+        self._last_action = action
         base = self._base_target()
         residual = self.residual_scale * action[: self.n_joints]
         if self._offset_tables is not None:
@@ -674,7 +684,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         roll = 0.0 if unstable else self._roll.update(self._body_roll.angles())
         roll_span = float(self._roll.span_deg.max())
         rolled = not unstable and termination.rolled(roll_span, self.roll_limit)
-        measures = StepMeasures(climb, slip, roll, 0.0 if unstable else energy)
+        measures = StepMeasures(climb, slip, roll, 0.0 if unstable else energy, action_rate)
         terms = reward_terms(self.reward_weights, measures)
         reward = sum(terms.values())
         terminated = fell or unstable or rolled
@@ -684,6 +694,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             "climb": climb,
             "slip": slip,
             "energy": energy,
+            "action_rate": action_rate,
             "com_height": com_height,
             "phase": phase,
             "phase_rate": rate,

@@ -23,6 +23,9 @@ class StepMeasures(NamedTuple):
     roll: float = 0.0
     # J: actuator work this step, sum |tau qdot| dt (motors that do not regenerate)
     energy: float = 0.0
+    # sum over the action's entries of (a_t - a_{t-1})^2 per joint, in action units (the clipped
+    # action; a_{-1} = 0, the zero residual the reset ends on)
+    action_rate: float = 0.0
 
 
 def climb_term(step: StepMeasures) -> float:
@@ -48,16 +51,31 @@ def energy_term(step: StepMeasures) -> float:
     return -step.energy
 
 
+def action_rate_term(step: StepMeasures) -> float:
+    """Penalty: the action's squared change since the last step, negated. A residual that flips
+    between the ends of its range at every step reads ~1-4 (benchmarks/action_smoothing.py: such
+    flipping climbs in simulation through the soft contact's creep, and shrinks under a harder
+    contact); one smooth over the 220-step gait cycle reads ~1e-3 or less."""
+    return -step.action_rate
+
+
 REWARD_TERMS: dict[str, Callable[[StepMeasures], float]] = {
     "climb": climb_term,
     "slip": slip_term,
     "roll": roll_term,
     "energy": energy_term,
+    "action_rate": action_rate_term,
 }
 # roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v2), where rolling is what
-# the task forbids; energy 0: off unless a recipe asks for it. With both at weight 0 the reward
-# equals climb and slip's to the bit.
-DEFAULT_REWARD_WEIGHTS: dict[str, float] = {"climb": 1.0, "slip": 1.0, "roll": 0.0, "energy": 0.0}
+# the task forbids; energy and action_rate 0: off unless a recipe asks for them. With all three
+# at weight 0 the reward equals climb and slip's to the bit.
+DEFAULT_REWARD_WEIGHTS: dict[str, float] = {
+    "climb": 1.0,
+    "slip": 1.0,
+    "roll": 0.0,
+    "energy": 0.0,
+    "action_rate": 0.0,
+}
 
 
 def check_reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:

@@ -23,6 +23,11 @@ Per-episode metrics (the JSON names are an interface: other tools read them), wi
 | ``touched_arc_deg`` | largest arc of any module's circumference that touched the pole |
 | ``reward_per_gait_cycle`` | env reward summed over the episode / gait_cycles |
 | ``falls`` | 1 if the episode ended with ``info["fell"]`` |
+| ``action_change`` | mean over steps 2.. of mean abs(a_t - a_{t-1}) over the action's entries |
+
+``action_change`` tells a residual smooth over the gait cycle (near 0; an open loop reads 0) from
+one that flips at the control rate (flipping between the ends of the range reads 2), which can
+climb on the soft contact's creep (``benchmarks/action_smoothing.py``).
 
 ``touched_arc_deg``: after every step, each active snake-pole contact is expressed in the frame of
 its module's link (x along the module's axis) and binned by its angle about that axis into
@@ -56,6 +61,7 @@ METRICS = (
     "touched_arc_deg",
     "reward_per_gait_cycle",
     "falls",
+    "action_change",
 )
 ARC_BINS = 36  # 10-degree bins about each module's axis
 CI_NOTE = "two-sided 95 % confidence interval of the mean, Student's t distribution"
@@ -195,6 +201,7 @@ class Episode:
     abs_torque_sum: float = 0.0
     joint_steps: int = 0
     limit_joint_steps: int = 0
+    action_change_sum: float = 0.0  # sum over steps 2.. of mean abs(a_t - a_{t-1})
     touched_bins: np.ndarray = field(default_factory=lambda: np.zeros((0, ARC_BINS), dtype=bool))
     com_height: np.ndarray = field(default_factory=lambda: np.zeros(0))  # after reset, each step
 
@@ -228,6 +235,7 @@ class Episode:
             "touched_arc_deg": float(self.touched_arcs_deg.max(initial=0.0)),
             "reward_per_gait_cycle": per(self.reward, gait_cycles),
             "falls": float(self.fell),
+            "action_change": per(self.action_change_sum, self.steps - 1),
         }
 
 
@@ -264,8 +272,13 @@ def run_episode(
     if callback is not None:
         callback(env, obs, None, info)
     terminated = truncated = False
+    last: np.ndarray | None = None
     while not (terminated or truncated) and (max_steps is None or episode.steps < max_steps):
         action = policy(obs)
+        played = np.asarray(action, dtype=float)
+        if last is not None:
+            episode.action_change_sum += float(np.abs(played - last).mean())
+        last = played.copy()
         obs, reward, terminated, truncated, info = env.step(action)
         episode.steps += 1
         episode.reward += float(reward)
@@ -402,6 +415,7 @@ TABLE_ROWS = (
     ("torque_limit_fraction", "share at torque limit", ".4f"),
     ("touched_arc_deg", "touched arc (deg)", ".0f"),
     ("reward_per_gait_cycle", "reward per gait cycle", ".4f"),
+    ("action_change", "action change per step", ".3f"),
 )
 
 
@@ -413,8 +427,8 @@ def format_table(summaries: dict[str, dict[str, Any]], markdown: bool = False) -
     for metric, label, fmt in TABLE_ROWS:
         row = [label]
         for name in names:
-            s = summaries[name][metric]
-            row.append(f"{s['mean']:{fmt}} ± {s['half_width']:{fmt}}")
+            s = summaries[name].get(metric)  # an older evaluation's JSON may lack a metric
+            row.append("n/a" if s is None else f"{s['mean']:{fmt}} ± {s['half_width']:{fmt}}")
         rows.append(row)
     values = summaries.values()
     rows.append(["falls", *(f"{s['falls']['count']}/{s['episodes']}" for s in values)])

@@ -155,6 +155,30 @@ def test_every_metric_on_a_hand_checked_rollout() -> None:
 
 
 @pytest.mark.slow
+def test_action_change_reads_flipping_as_two_and_an_open_loop_as_zero() -> None:
+    env = gymnasium.make(ACL_CLIMB_ID, **SHORT)
+    sign = [1.0]
+
+    def flipping(obs: np.ndarray) -> np.ndarray:
+        sign[0] = -sign[0]
+        return np.full(env.action_space.shape, sign[0], dtype=np.float32)
+
+    flipped = evaluation.run_episode(env, flipping, seed=0).metrics()["action_change"]
+    still = evaluation.run_episode(env, evaluation.zero_policy(env), seed=0).metrics()
+    assert flipped == pytest.approx(2.0)
+    assert still["action_change"] == 0.0
+
+
+def test_table_shows_a_metric_an_older_evaluation_lacks_as_missing() -> None:
+    env = gymnasium.make(ACL_CLIMB_ID, **SHORT)
+    episodes = [evaluation.run_episode(env, evaluation.zero_policy(env), seed=s) for s in (0, 1)]
+    summary = evaluation.summarize(episodes)
+    older = {k: v for k, v in summary.items() if k != "action_change"}
+    table = evaluation.format_table({"new": summary, "old": older}).splitlines()
+    (row,) = [line for line in table if line.startswith("action change per step")]
+    assert row.split()[-1] == "n/a" and "0.000 ± 0.000" in row
+
+
 def test_touched_arc_of_rolling_and_non_rolling_gaits() -> None:
     """Over 2 cycles the rolling helix touches at least 270 degrees of some module; the
     non-rolling ACL at most 90 on every module (sensors could sit on the rest)."""

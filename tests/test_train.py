@@ -233,6 +233,10 @@ NOROLL_CLIMB_GAITS = {
     "ablations/noroll_thin_pole_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_roll_margin_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_action_rate.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ablations/noroll_thin_gait_action_rate.yml": (
+        "tuned_gaits_noroll_climb_thin.yml",
+        "acl_noroll_climb_thin",
+    ),
     "ablations/noroll_thin_gait.yml": (
         "tuned_gaits_noroll_climb_thin.yml",
         "acl_noroll_climb_thin",
@@ -240,7 +244,10 @@ NOROLL_CLIMB_GAITS = {
 }
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
 # Terms a climb recipe adds to the climb objective's weights (a shaping ablation).
-NOROLL_CLIMB_EXTRA_WEIGHTS = {"ablations/noroll_action_rate.yml": {"action_rate": 0.001}}
+NOROLL_CLIMB_EXTRA_WEIGHTS = {
+    "ablations/noroll_action_rate.yml": {"action_rate": 0.001},
+    "ablations/noroll_thin_gait_action_rate.yml": {"action_rate": 0.001},
+}
 
 
 @pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))

@@ -275,10 +275,10 @@ def run_episode(
     last: np.ndarray | None = None
     while not (terminated or truncated) and (max_steps is None or episode.steps < max_steps):
         action = policy(obs)
-        played = np.asarray(action, dtype=float)
+        played = np.array(action, dtype=float)  # a copy: a policy may reuse its array
         if last is not None:
             episode.action_change_sum += float(np.abs(played - last).mean())
-        last = played.copy()
+        last = played
         obs, reward, terminated, truncated, info = env.step(action)
         episode.steps += 1
         episode.reward += float(reward)

@@ -141,17 +141,8 @@ def snake_geom_ids(model: mujoco.MjModel, n_joints: int) -> np.ndarray:
 
 
 CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
-PHYSICS_OPTIONS = (
-    "cone",
-    "refsafe",
-    "contact_timeconst",
-    "solimp",
-    "iterations",
-    "tolerance",
-    "ls_iterations",
-    "ls_tolerance",
-    "impratio",
-)
+SOLVER_OPTIONS = ("iterations", "tolerance", "ls_iterations", "ls_tolerance", "impratio")
+PHYSICS_OPTIONS = ("cone", "refsafe", "contact_timeconst", "solimp", *SOLVER_OPTIONS)
 
 
 def apply_physics_options(model: mujoco.MjModel, options: dict[str, Any]) -> None:
@@ -171,7 +162,7 @@ def apply_physics_options(model: mujoco.MjModel, options: dict[str, Any]) -> Non
             model.geom_solref[model.geom_solref[:, 0] == CONTACT_TIMECONST, 0] = value
         elif key == "solimp":
             model.geom_solimp[:, :2] = value
-        elif key in ("iterations", "tolerance", "ls_iterations", "ls_tolerance", "impratio"):
+        elif key in SOLVER_OPTIONS:
             setattr(model.opt, key, value)
         else:
             raise ValueError(

@@ -21,9 +21,10 @@ for two ablations, run here on the same seeds (episode ``i`` resets with seed ``
 The base gait (a zero action) runs beside them as the reference. Printed and in the JSON per
 physics setting and controller: climb per gait cycle (mean and 95 % CI,
 :func:`acl_env.evaluation.mean_ci95`), largest touched arc, falls and rolls, and for the policy
-the mean step-to-step change of its action (``|a_t - a_{t-1}|``, in units of the action range's
-half width) and the share of its action's power above a quarter of the control rate's Nyquist
-frequency (white noise: 0.75; a residual smooth over the gait cycle: near 0).
+the mean step-to-step change of its action (``action_change`` of :mod:`acl_env.evaluation`, in
+units of the action range's half width) and the share of its action's power above a quarter of
+the control rate's Nyquist frequency (white noise: 0.75; a residual smooth over the gait cycle:
+near 0).
 """
 
 from __future__ import annotations
@@ -37,11 +38,11 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env.evaluation import Policy, mean_ci95, run_episode
+from acl_env.evaluation import Policy, mean_ci95, run_episode, zero_policy
 from acl_env.model import apply_physics_options
 from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
-from acl_env.training.evaluate import TRAINING_ONLY_KWARGS
+from acl_env.training.evaluate import evaluation_env_kwargs
 from acl_env.training.policy import load_policy, read_policy_folder
 from acl_env.training.runs import write_json
 
@@ -62,11 +63,6 @@ def held(policy: Policy, k: int) -> Policy:
     return act
 
 
-def constant(action: np.ndarray) -> Policy:
-    """Always ``action``."""
-    return lambda obs: action
-
-
 def recorder() -> tuple[list[np.ndarray], Callable[..., None]]:
     """A list and a :func:`acl_env.evaluation.run_episode` callback that appends each action."""
     actions: list[np.ndarray] = []
@@ -78,16 +74,15 @@ def recorder() -> tuple[list[np.ndarray], Callable[..., None]]:
     return actions, record
 
 
-def chatter(actions: np.ndarray) -> tuple[float, float]:
-    """Mean ``|a_t - a_{t-1}|`` over steps and action dimensions, and the share of the (mean
-    removed) actions' power above ``HIGH_BAND`` of the Nyquist frequency."""
+def high_band_share(actions: np.ndarray) -> float:
+    """The share of the (mean removed) actions' power above ``HIGH_BAND`` of the Nyquist
+    frequency (NaN for fewer than two actions)."""
     if len(actions) < 2:
-        return float("nan"), float("nan")
-    step = float(np.abs(np.diff(actions, axis=0)).mean())
+        return float("nan")
     power = np.abs(np.fft.rfft(actions - actions.mean(axis=0), axis=0)) ** 2
     total = power.sum()
     high = power[int(np.ceil(HIGH_BAND * (len(power) - 1))) :].sum()
-    return step, float(high / total) if total > 0 else 0.0
+    return float(high / total) if total > 0 else 0.0
 
 
 def settings(timestep: float, timeconsts: list[float]) -> list[tuple[str, float | None, dict]]:
@@ -110,8 +105,7 @@ def run(
 ) -> dict[str, Any]:
     """Every physics setting x (the policy at each hold, the zero action) on seeds 0..episodes-1."""
     folder = read_policy_folder(policy_dir)
-    kwargs = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
-    kwargs.update(overrides)
+    kwargs = {**evaluation_env_kwargs(folder), **overrides}
     rows = []
     cells = settings(timestep, timeconsts)
     bar = tqdm(total=len(cells) * (len(holds) + 1) * episodes, unit="ep", disable=not progress)
@@ -119,19 +113,16 @@ def run(
         env = gymnasium.make(folder.env_id, **kwargs, **({} if dt is None else {"timestep": dt}))
         apply_physics_options(env.unwrapped.model, options)
         policy = load_policy(folder, env)
-        zero = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)
         for k in [*holds, 0]:  # 0: the zero action
             name = (
                 "zero action (its gait)" if k == 0 else "policy" if k == 1 else f"policy, held {k}"
             )
-            played, steps, shares = [], [], []
+            played, shares = [], []
             for seed in range(episodes):
-                actor = held(policy, k) if k else constant(zero)
+                actor = held(policy, k) if k else zero_policy(env)
                 actions, record = recorder()
                 played.append(run_episode(env, actor, seed, callback=record))
-                step, share = chatter(np.array(actions))
-                steps.append(step)
-                shares.append(share)
+                shares.append(high_band_share(np.array(actions)))
                 bar.update()
             metrics = [e.metrics() for e in played]
             climb = mean_ci95(m["climb_per_gait_cycle_m"] for m in metrics)
@@ -143,7 +134,7 @@ def run(
                     "touched_arc_deg_max": max(m["touched_arc_deg"] for m in metrics),
                     "falls": sum(e.fell for e in played),
                     "rolled": sum(e.rolled for e in played),
-                    "action_step": float(np.nanmean(steps)),
+                    "action_step": float(np.nanmean([m["action_change"] for m in metrics])),
                     "action_high_band_share": float(np.nanmean(shares)),
                 }
             )
@@ -244,8 +235,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                 "MuJoCo would clamp it (choose a finer --timestep)"
             )
     try:
-        read_policy_folder(args.policy)
-        check_env_kwargs(read_policy_folder(args.policy).env_id, overrides)
+        check_env_kwargs(read_policy_folder(args.policy).env_id, overrides).close()
     except (ValueError, TypeError) as error:
         parser.error(str(error))
     document = run(

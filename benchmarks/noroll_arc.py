@@ -38,8 +38,8 @@ from acl_env.evaluation import Episode
 from acl_env.training import cli
 from acl_env.training.evaluate import (
     DEFAULT_TUNED_GAITS,
-    TRAINING_ONLY_KWARGS,
     Controller,
+    evaluation_env_kwargs,
     make_pool,
     run_controllers,
     tuned_gait,
@@ -59,8 +59,7 @@ def build(
     if policy is not None:
         folder = read_policy_folder(policy)
         env_id = folder.env_id
-        trained = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
-        base = {**trained, **overrides}
+        base = {**evaluation_env_kwargs(folder), **overrides}
         controllers.append(Controller("policy", env_id, base, str(folder.path)))
     controllers.insert(0, Controller("open_loop_noroll", env_id, base))
     played = {**(gymnasium.spec(env_id).kwargs or {}), **base}  # what open_loop_noroll plays

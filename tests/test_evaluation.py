@@ -163,9 +163,17 @@ def test_action_change_reads_flipping_as_two_and_an_open_loop_as_zero() -> None:
         sign[0] = -sign[0]
         return np.full(env.action_space.shape, sign[0], dtype=np.float32)
 
+    step = [0]
+
+    def smooth(obs: np.ndarray) -> np.ndarray:  # a sine over one 220-step gait cycle
+        step[0] += 1
+        return np.full(env.action_space.shape, np.sin(2 * np.pi * step[0] / 220), np.float32)
+
     flipped = evaluation.run_episode(env, flipping, seed=0).metrics()["action_change"]
+    slow = evaluation.run_episode(env, smooth, seed=0).metrics()["action_change"]
     still = evaluation.run_episode(env, evaluation.zero_policy(env), seed=0).metrics()
     assert flipped == pytest.approx(2.0)
+    assert 0.0 < slow < 0.03
     assert still["action_change"] == 0.0
 
 

@@ -255,6 +255,12 @@ def tuned_gait(
     return (env_id, env_kwargs), note
 
 
+def evaluation_env_kwargs(folder: PolicyFolder) -> dict[str, Any]:
+    """The policy's training env kwargs less the training-only ones (domain randomisation):
+    the conditions it is evaluated under before any override."""
+    return {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
+
+
 def build_controllers(
     folder: PolicyFolder | None,
     overrides: dict[str, Any],
@@ -267,7 +273,7 @@ def build_controllers(
     base: dict[str, Any] = {}
     acl_id = ACL_CLIMB_ID
     if folder is not None:
-        base = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
+        base = evaluation_env_kwargs(folder)
         if reward_weights is None:
             reward_weights = base.get("reward_weights")
     base = {**base, **overrides}

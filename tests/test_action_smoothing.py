@@ -17,6 +17,7 @@ from acl_env.model import apply_physics_options, build_model
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED_NOROLL = ROOT / "train" / "policies" / "acl_climb_noroll_ppo"
+TWO_STAGE_NOROLL = ROOT / "train" / "policies" / "ablations" / "noroll_two_stage"
 
 
 def _smoothing() -> dict[str, Any]:
@@ -91,3 +92,23 @@ def test_rows_cover_every_setting_and_controller(tmp_path: Path) -> None:
     zero = [r for r in rows if r["controller"].startswith("zero")]
     assert all(r["action_step"] == 0.0 for r in zero)
     assert all(np.isfinite(r["climb_per_gait_cycle_m"]["mean"]) for r in rows)
+
+
+@pytest.mark.parametrize(("folder", "flips"), [(SHIPPED_NOROLL, False), (TWO_STAGE_NOROLL, True)])
+def test_shipped_noroll_policy_does_not_flip_its_action(folder: Path, flips: bool) -> None:
+    """The non-rolling policy shipped before (two stages, no action-rate penalty) climbed mostly
+    by flipping its residual at the control rate: about 0.6 of the range's half width per step
+    (README, "Chatter"). The shipped recipe's action-rate term keeps the policy smooth."""
+    import gymnasium as gym
+
+    from acl_env.evaluation import run_episode
+    from acl_env.training.evaluate import evaluation_env_kwargs
+    from acl_env.training.policy import load_policy, read_policy_folder
+
+    policy = read_policy_folder(folder)
+    env = gym.make(policy.env_id, **evaluation_env_kwargs(policy), cycles_per_episode=1)
+    episode = run_episode(env, load_policy(policy, env), 0)
+    env.close()
+    change = episode.metrics()["action_change"]
+    assert episode.steps > 100 and not episode.fell
+    assert (change > 0.3) if flips else (change < 0.1), change

@@ -170,8 +170,9 @@ def test_noroll_policy_on_another_gait_meets_that_gait_and_the_tuned_one(tmp_pat
 
 
 def test_ppo_config_entry_builds_the_noroll_env() -> None:
-    """train/configs/ppo.yml's entry: the registered roll weight (the climb as objective, slip 0),
-    initial joint noise <= 0.03 rad, no cadence action; its env kwargs build the env."""
+    """train/configs/ppo.yml's entry: the registered roll weight (the climb as objective, slip 0)
+    and the action-rate term that keeps the residual from chattering, initial joint noise <= 0.03
+    rad, no cadence action; its env kwargs build the env."""
     import math
     from pathlib import Path
 
@@ -181,7 +182,11 @@ def test_ppo_config_entry_builds_the_noroll_env() -> None:
     hyperparams = config.load_hyperparams(path, ACL_CLIMB_NOROLL_ID)
     kwargs = config.algo_kwargs(hyperparams)
     env_kwargs = hyperparams["env_kwargs"]
-    assert env_kwargs["reward_weights"] == {**NOROLL_KWARGS["reward_weights"], "slip": 0.0}
+    assert env_kwargs["reward_weights"] == {
+        **NOROLL_KWARGS["reward_weights"],
+        "slip": 0.0,
+        "action_rate": 0.001,
+    }
     assert math.exp(kwargs["policy_kwargs"]["log_std_init"]) * env_kwargs["residual_scale"] <= 0.03
     assert "phase_rate_range" not in env_kwargs
     env = gym.make(ACL_CLIMB_NOROLL_ID, **env_kwargs, **SHORT)

@@ -201,7 +201,11 @@ SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
 # ppo.yml's shipped non-rolling recipe; the roll term stays. Recipe -> that study's gaits file
 # and entry.
 NOROLL_CLIMB_GAITS = {
-    "ppo.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
+    "ppo.yml": ("tuned_gaits_noroll_v2.yml", "acl_noroll"),
+    "ablations/noroll_climb_gait_action_rate.yml": (
+        "tuned_gaits_noroll_climb.yml",
+        "acl_noroll_climb",
+    ),
     "ablations/noroll_climb_gait.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_no_action_rate.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
     "ablations/noroll_climb_rerun_gait.yml": (
@@ -219,17 +223,16 @@ NOROLL_CLIMB_GAITS = {
         "tuned_gaits_noroll_climb_thin.yml",
         "acl_noroll_climb_thin",
     ),
-    "ablations/noroll_v2_gait_action_rate.yml": ("tuned_gaits_noroll_v2.yml", "acl_noroll"),
 }
 # Climb recipes on a gait another study found: recipe -> that study's objective (by default the
 # climb's). The registered reward's study, rerun on v2, found the gait that climbs furthest.
-NOROLL_GAIT_OBJECTIVE = {"ablations/noroll_v2_gait_action_rate.yml": "reward_per_gait_cycle"}
+NOROLL_GAIT_OBJECTIVE = {"ppo.yml": "reward_per_gait_cycle"}
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
 # Terms a climb recipe adds to the climb objective's weights (a shaping ablation).
 NOROLL_CLIMB_EXTRA_WEIGHTS = {
     "ppo.yml": {"action_rate": 0.001},
     "ablations/noroll_thin_gait_action_rate.yml": {"action_rate": 0.001},
-    "ablations/noroll_v2_gait_action_rate.yml": {"action_rate": 0.001},
+    "ablations/noroll_climb_gait_action_rate.yml": {"action_rate": 0.001},
 }
 
 

@@ -3,7 +3,8 @@
 ``python benchmarks/slip_by_phase.py [--policy DIR] [--episodes 10] [--bins 10]
 [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH]``: the policy (deterministic, as
 ``train/evaluate.py`` runs it) and its own base gait played open loop at the policy's mean cadence
-(evaluation's ``open_loop_acl_same_cadence`` controller), on the same reset seeds at default
+(evaluation's ``open_loop_acl_same_cadence`` controller; a policy without a cadence action plays
+one keyframe per step, and so does its gait), on the same reset seeds at default
 conditions (or ``--env-kwargs``). Each step's contact slip, climb and actuator work (the env's
 ``info``) is binned by the gait phase the step ends at, and each bin is reported per gait cycle
 executed. A policy that slides less overall can still slide more in some tenths of the cycle:
@@ -30,6 +31,7 @@ from acl_env.training.checks import check_env_kwargs
 from acl_env.training.evaluate import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
+    POLICY_ACTION_KWARGS,
     SAME_CADENCE,
     Controller,
     build_controllers,
@@ -99,14 +101,19 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         check_env_kwargs(folder.env_id, controllers["policy"].env_kwargs).close()
     except ValueError as error:
         parser.error(f"argument --env-kwargs: {error}")
-    if SAME_CADENCE not in controllers:
-        parser.error("argument --policy: the policy does not set the cadence (phase_rate_range)")
     seeds = [args.seed + i for i in range(args.episodes)]
     progress = not args.no_progress_bar
     policy, rate = binned_run(controllers["policy"], seeds, args.bins, progress)
-    gait, _ = binned_run(
-        replace(controllers[SAME_CADENCE], phase_rate=rate), seeds, args.bins, progress
-    )
+    if SAME_CADENCE in controllers:  # the policy sets the cadence: its gait at the mean rate
+        own_gait = replace(controllers[SAME_CADENCE], phase_rate=rate)
+    else:  # the policy's env and gait with a zero action (one keyframe per step, as the policy)
+        kwargs = controllers["policy"].env_kwargs
+        own_gait = Controller(
+            "its gait",
+            folder.env_id,
+            {k: v for k, v in kwargs.items() if k not in POLICY_ACTION_KWARGS},
+        )
+    gait, _ = binned_run(own_gait, seeds, args.bins, progress)
 
     print(f"per gait cycle, by the phase a step ends at; open loop at {rate:.3f} keyframes/step")
     print(f"{'phase':>11} " + " ".join(f"{t + ' pol / gait':>26}" for t in TERMS))

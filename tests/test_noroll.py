@@ -362,3 +362,29 @@ def test_shipped_policy_replays_its_published_evaluation() -> None:
         assert climbs[name] == pytest.approx(expected, abs=1e-3), name
         assert metrics["touched_arc_deg"] <= 90.0 and not episode.fell and not episode.rolled
     assert climbs["policy"] > climbs["open_loop_policy_gait"]
+
+
+def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path: Path) -> None:
+    """benchmarks/slip_by_phase.py takes a policy without a cadence action (the non-rolling one):
+    its gait plays at one keyframe per step, as the policy does, and each controller's phase bins
+    add up to its episode's climb per gait cycle."""
+    import json
+
+    from acl_env.training.evaluate import evaluation_env_kwargs
+    from acl_env.training.policy import read_policy_folder
+
+    main = runpy.run_path(str(ROOT / "benchmarks" / "slip_by_phase.py"), run_name="slip")["main"]
+    out = tmp_path / "slip.json"
+    argv = ["--policy", str(SHIPPED_NOROLL), "--episodes", "1", "--bins", "4"]
+    document = main(
+        [*argv, "--env-kwargs", "cycles_per_episode:1", "--json", str(out), "--no-progress-bar"]
+    )
+    assert json.loads(out.read_text()) == document
+    assert document["phase_rate"] == 1.0
+    assert len(document["gait_per_bin"]["climb"]) == 4
+    # The policy's env as evaluation plays it (no domain randomisation), with a zero action.
+    env_kwargs = evaluation_env_kwargs(read_policy_folder(SHIPPED_NOROLL))
+    env = gym.make(ACL_CLIMB_NOROLL_ID, **{**env_kwargs, "cycles_per_episode": 1})
+    gait = run_episode(env, zero_policy(env), 0).metrics()["climb_per_gait_cycle_m"]
+    assert sum(document["gait_per_bin"]["climb"]) == pytest.approx(gait, rel=1e-6)
+    assert sum(document["policy_per_bin"]["climb"]) != pytest.approx(gait, rel=1e-3)

@@ -6,12 +6,12 @@
 Controllers, episode ``i`` of each resetting with seed ``seed + i``
 (:func:`acl_env.training.evaluate.run_controllers`, :func:`acl_env.evaluation.run_episode`):
 
-* ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v2`` with a zero action (the policy's env and
+* ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v3`` with a zero action (the policy's env and
   its non-training kwargs when ``--policy`` is given, its gait included, so both run under the
   same conditions);
 * ``open_loop_tuned_noroll``: the tuner's non-rolling gait (``acl_noroll`` in
-  ``train/configs/tuned_gaits.yml``) on the same env, when it differs from the gait
-  ``open_loop_noroll`` plays;
+  ``train/configs/tuned_gaits.yml``, ``acl_noroll_v2`` for a policy on v2) on the same env,
+  when it differs from the gait ``open_loop_noroll`` plays;
 * ``policy``: the policy folder (deterministic, VecNormalize frozen), with ``--policy``;
 * ``open_loop_rolling_acl``: the rolling ACL (``acl_env/ACLClimb-v1``), for reference.
 
@@ -63,7 +63,7 @@ def build(
         controllers.append(Controller("policy", env_id, base, str(folder.path)))
     controllers.insert(0, Controller("open_loop_noroll", env_id, base))
     played = {**(gymnasium.spec(env_id).kwargs or {}), **base}  # what open_loop_noroll plays
-    tuned, note = tuned_gait(tuned_path, played.get("reward_weights"), non_rolling=True)
+    tuned, note = tuned_gait(tuned_path, played.get("reward_weights"), True, env_id=env_id)
     if tuned is None:
         notes.append(f"open_loop_tuned_noroll: skipped, {note}")
     elif all(played.get(k) == v for k, v in tuned[1].items()):

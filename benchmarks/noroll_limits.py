@@ -2,8 +2,10 @@
 
 ``python benchmarks/noroll_limits.py [--seeds 3] [--json PATH]``: zero-action episodes (two
 cycles, one per reset seed, :func:`acl_env.evaluation.run_episode`) of ``acl_env/ACLClimbNoRoll-
-v2`` with one or two of its gait parameters changed from the tuned values (``NOROLL_KWARGS``):
-larger axial waves (A_p), a tighter helix (squeeze), a longer pitch, a third wave (Omega = 3).
+v2`` with one or two of its gait parameters changed from its registered values
+(``NOROLL_V2_KWARGS``, the gait v3 replaced once a rerun of its study found larger waves
+climbing further): larger axial waves (A_p), a tighter helix (squeeze), a longer pitch, a third
+wave (Omega = 3).
 Prints climb and slip per gait cycle, the largest touched arc and the falls or roll-limit ends
 of each. The question it answers: does inching further per cycle only need larger waves, or
 does the grip fail first?
@@ -18,13 +20,13 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_NOROLL_ID, NOROLL_KWARGS
+from acl_env import ACL_CLIMB_NOROLL_V2_ID, NOROLL_V2_KWARGS
 from acl_env.evaluation import run_episode, zero_policy
 from acl_env.training import cli
 from acl_env.training.runs import write_json
 
-TUNED_GAIT: dict[str, Any] = dict(NOROLL_KWARGS["gait_kwargs"])
-TUNED_SQUEEZE = float(NOROLL_KWARGS["squeeze"])
+TUNED_GAIT: dict[str, Any] = dict(NOROLL_V2_KWARGS["gait_kwargs"])
+TUNED_SQUEEZE = float(NOROLL_V2_KWARGS["squeeze"])
 # label -> (gait_kwargs changes, squeeze or None for the tuned one)
 VARIANTS: dict[str, tuple[dict[str, Any], float | None]] = {
     "tuned (A_p 2.9 cm, squeeze 1.6 cm)": ({}, None),
@@ -52,7 +54,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
     for label, (changes, squeeze) in VARIANTS.items():
         kwargs: dict[str, Any] = {"gait_kwargs": {**TUNED_GAIT, **changes}}
         kwargs["squeeze"] = TUNED_SQUEEZE if squeeze is None else squeeze
-        env = gymnasium.make(ACL_CLIMB_NOROLL_ID, **kwargs)
+        env = gymnasium.make(ACL_CLIMB_NOROLL_V2_ID, **kwargs)
         ended = 0
         runs = []
         for seed in tqdm(range(args.seeds), desc=label, leave=False):

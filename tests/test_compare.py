@@ -10,7 +10,7 @@ import pytest
 from acl_env.evaluation import PAIRED_METRICS
 from acl_env.training.compare import compare, main
 
-ENV = "acl_env/ACLClimbNoRoll-v2"
+ENV = "acl_env/ACLClimbNoRoll-v3"
 
 
 def write_eval(path: Path, climbs: list[float], seeds: list[int], **env_kwargs: object) -> Path:

@@ -203,6 +203,9 @@ def test_bad_actions_raise(action: np.ndarray, match: str) -> None:
         ({"gait_kwargs": {"pitch": 0.01}}, "pitch"),
         ({"gait_kwargs": {"n_joints": 8}}, "n_joints"),
         ({"fall_distance": 0.0}, "fall_distance"),
+        ({"squeeze_slope": -0.1}, "squeeze_slope"),
+        ({"squeeze_slope": 1.5}, "squeeze_slope"),
+        ({"squeeze_slope": float("nan")}, "squeeze_slope"),
     ],
 )
 def test_bad_kwargs_raise_naming_the_parameter(kwargs: dict, name: str) -> None:

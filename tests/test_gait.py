@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from acl_env import NOROLL_KWARGS
+from acl_env import NOROLL_V2_KWARGS
 from acl_env.gait import ACLGait, Gait, RollingHelixGait
 from acl_env.gait.__main__ import main
 from acl_env.gait.curves import _cumint, bellows_integrals, sample_curve, twist_mismatch
@@ -165,10 +165,10 @@ def test_non_rolling_acl_holds_its_roll_within_the_cycle(amp_pitch: float) -> No
 
 # --- thin poles: where the curve nearly straightens -----------------------------------------
 
-# The registered non-rolling gait and the climb study's larger waves (train/configs), whose
+# v2's registered non-rolling gait and the climb study's larger waves (train/configs), whose
 # quadrature of tau fails on thin poles (docs/gait.md#thin-poles).
 NOROLL_GAITS = {
-    "registered": (NOROLL_KWARGS["gait_kwargs"], NOROLL_KWARGS["squeeze"]),
+    "v2_registered": (NOROLL_V2_KWARGS["gait_kwargs"], NOROLL_V2_KWARGS["squeeze"]),
     "climb": (
         {"amp_pitch": 0.0421, "amp_radial": 0.0150, "pitch": 0.1362, "rolls_per_cycle": 0},
         0.0066,
@@ -216,7 +216,7 @@ def test_resolved_gaits_keep_the_quadrature_and_agree_with_the_turns() -> None:
     transported = sample_curve(gait.curve, phases, gait.body_length, gait.n_samples, True)
     np.testing.assert_allclose(transported.twist, samples.twist, atol=1e-3)
     assert twist_mismatch(samples) < 1e-3
-    thin = thin_pole_gait("registered", 0.055)
+    thin = thin_pole_gait("v2_registered", 0.055)
     assert twist_mismatch(sample_curve(thin.curve, phases, thin.body_length, thin.n_samples)) > 0.05
 
 

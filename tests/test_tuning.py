@@ -162,6 +162,25 @@ def test_rerun_resumes_the_study_and_other_settings_are_refused(
     assert len(load(tmp_path).trials) == 5
 
 
+def test_a_study_resumes_on_the_env_it_was_run_on(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A non-rolling study run on v2 is refused on v3 (the default) and resumes with ``--env``
+    naming v2; the tuned entry records the env it was tuned on."""
+    v3 = ["--no-roll", "--validate-seeds", "0", "--reward-weights", "climb:1", "roll:0.05"]
+    v2 = [*v3, "--env", "acl_env/ACLClimbNoRoll-v2"]
+    tuning.main(tiny_args(tmp_path, "--n-trials", "1", *v2))
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as exc:
+        tuning.main(tiny_args(tmp_path, "--n-trials", "2", *v3))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and "--study-name" in err and "env_id" in err
+    tuning.main(tiny_args(tmp_path, "--n-trials", "2", *v2))
+    assert len(load(tmp_path, "acl_noroll").get_trials(states=tuning.FINISHED)) == 2
+    entry = tuning.read_tuned_gaits(tmp_path / "tuned.yml")["acl_noroll"]
+    assert entry["env_id"] == "acl_env/ACLClimbNoRoll-v2"
+
+
 def test_policy_point_reads_energy_climb_and_slip(tmp_path: Path) -> None:
     summary = {"energy_per_m": {"mean": 700.0}, "climb_per_gait_cycle_m": {"mean": 0.2}}
     path = tmp_path / "eval.json"
@@ -231,6 +250,8 @@ def test_a_saturated_gait_is_disqualified_without_a_rollout(tmp_path: Path) -> N
         (["--condition", "friction"], "--condition"),
         # the default search space's amp_radial does not fit around a 1 cm pole
         (["--condition", "pole_radius:0.01"], "--space"),
+        (["--env", "CartPole-v1"], "--env"),
+        (["--env", "acl_env/ACLClimbNoRoll-v9"], "--env"),
     ],
 )
 def test_bad_input_is_one_line_naming_the_argument(

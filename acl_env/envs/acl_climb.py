@@ -195,49 +195,47 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     step's reward terms are then 0); or, with ``roll_limit`` set, when the body *rolled*: some
     module's roll swept more than ``roll_limit`` degrees (``info["rolled"]``).
 
-    ## Non-rolling task (``acl_env/ACLClimbNoRoll-v2``)
+    ## Non-rolling task (``acl_env/ACLClimbNoRoll-v3``)
     The paper's future work: climb without rolling, so that sensors can sit on the part of each
     module's skin that never touches the pole. Registered with ``acl_env.NOROLL_KWARGS``:
 
     * base gait: ACL with ``rolls_per_cycle=0`` (the roll of the curvature wave compensated, so
       the body truly does not roll) with the open-loop tuner's best parameters for this task's
       reward (``acl_noroll`` in ``train/configs/tuned_gaits.yml``: 300 trials, validated on 10
-      new seeds): ``amp_pitch`` 2.88 cm, ``spatial_freq`` 2, ``amp_radial`` 1.20 cm,
-      ``radial_freq`` 2, ``pitch`` 10.9 cm, ``squeeze`` 1.57 cm. Larger waves than the default
+      new seeds): ``amp_pitch`` 3.88 cm, ``spatial_freq`` 2, ``amp_radial`` 2.19 cm,
+      ``radial_freq`` 2, ``pitch`` 8.0 cm, ``squeeze`` 0.72 cm. Larger waves than the default
       non-rolling gait (A_p 1 cm, no radial wave, 0.6 cm per cycle) are what make it climb
-      without the roll. Open loop (2 cycles, seeds 0-1): 4.1-4.2 cm per cycle, slip 3.3 cm per
-      cycle, roll swept <= 39 deg, touched arc <= 40 deg, 0.000-0.001 turns per cycle (the
-      rolling ACL: 19.8 cm and -1.0 turn per cycle, 730 deg swept, 360 deg touched). It sits near
-      a cliff: on the 0.065 m pole (inside the training randomisation) it rolls past
-      ``roll_limit`` within two cycles, and it loses the 0.055 m pole within four steps (30 % of
-      its joint commands clipped at +-90 deg there).
+      without the roll. Open loop (2 cycles, seeds 0-1): 8.3-9.3 cm per cycle, slip 11 cm per
+      cycle, roll swept <= 69 deg, touched arc <= 60 deg, under 0.004 turns per cycle (the
+      rolling ACL: 19.8 cm and -1.0 turn per cycle, 730 deg swept, 360 deg touched); 8.7 cm per
+      gait cycle over 20 seeds, as far as any open loop the climb studies found (8.8-8.9 cm).
+      It sits near a cliff: the joint limit clips 9 % of its commands at 0.075 m, 18 % on the
+      0.065 m pole (inside the training randomisation), where it rolls past ``roll_limit`` within
+      30 steps, and 21 % on the 0.055 m pole, which it loses at once.
     * reward weights ``{"climb": 1, "slip": 0.25, "roll": 0.05}``. Climbing by rolling is worth
       ~0.2 m per turn (the rolling ACL), so rolling pays only while ``w_roll`` is below
       0.2 / (2 pi) = 0.03 per rad; 0.05 makes every turn cost more than it climbs. The open loop
-      sweeps ~0.46 rad once (its waves' own twist), 0.02 of reward per episode. Slip weighs 0.25:
+      sweeps ~1.1 rad once (its waves' own twist), 0.05 of reward per episode. Slip weighs 0.25:
       a non-rolling gait inches by sliding the sections between its anchors (0.8-1.7 m of slip
       per metre climbed), and with slip weighed 1 the reward of the first gaits tried here was
       negative, which would make ending the episode (falling, rolling) pay. The tuner optimised
-      the gait under these weights (0.021 reward per gait cycle).
+      the gait under these weights (0.040 reward per gait cycle on the validation seeds).
     * ``roll_limit`` 90 deg: the issue's bound on the touched arc, in the body frame. The episode
-      ends when a module's roll sweeps more (the open loop sweeps 39); whatever rolling could
-      gain after that is lost, and evaluation counts such episodes (``rolled``).
+      ends when a module's roll sweeps more (the open loop sweeps up to 69); whatever rolling
+      could gain after that is lost, and evaluation counts such episodes (``rolled``).
 
-    The registered weights are the task's reward; the registered gait was its best open loop on
-    v1. The shipped non-rolling policy (``train/configs/ppo.yml``) passes another gait and
-    objective as env kwargs: the open loop that climbs furthest per gait cycle found so far, which
-    the same reward's study found when rerun on v2 (``acl_noroll`` in
-    ``train/configs/tuned_gaits_noroll_v2.yml``: ``squeeze`` 0.72 cm, ``amp_pitch`` 3.88 cm,
-    ``amp_radial`` 2.19 cm, ``pitch`` 8.0 cm; 8.7 cm per gait cycle and 1.3 m of slip per metre
-    at the default pole, touched arc <= 60 deg), trained for the climb itself (``slip`` weight
-    0, the roll term and limit kept), the issue's metric, with ``action_rate`` 0.001 (without
-    it the residual learns to flip at every step and rides the contact's creep). That gait sits
-    near the cliff: open loop it rolls past ``roll_limit`` on the 0.065 m pole and falls off the
-    held-out 0.055 m pole (README, "The non-rolling task").
+    The shipped non-rolling policy (``train/configs/ppo.yml``) plays this gait and trains for
+    the climb itself (``slip`` weight 0, the roll term and limit kept), the issue's metric, with
+    ``action_rate`` 0.001 (without it the residual learns to flip at every step and rides the
+    contact's creep; README, "The non-rolling task").
 
-    v2 replaces v1: the non-rolling gaits' keyframe tables jumped by up to 180 deg on thin poles,
-    where the quadrature of the curve's torsion failed (docs/gait.md#thin-poles); the snake then
-    rolled off in its first steps. The registered gait's table is unchanged from 0.075 m up.
+    v3 replaces v2's gait: v2 registered the same study's best on v1's gait tables (``amp_pitch``
+    2.88 cm, ``amp_radial`` 1.20 cm, ``pitch`` 10.9 cm, ``squeeze`` 1.57 cm; 4.1 cm per gait
+    cycle), where large-wave gaits broke; rerun on v2's tables the study found this one, which
+    climbs twice as far. ``acl_env/ACLClimbNoRoll-v2`` stays registered (``NOROLL_V2_KWARGS``)
+    for the policies trained on it. v2 replaced v1: the non-rolling gaits' keyframe tables
+    jumped by up to 180 deg on thin poles, where the quadrature of the curve's torsion failed
+    (docs/gait.md#thin-poles); the snake then rolled off in its first steps.
 
     ## Copies
     ``pickle`` and ``copy.deepcopy`` of the env, taken at any point of an episode, continue
@@ -256,6 +254,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     | friction | 1.0 | (0, 5] | sliding friction of the snake's skin and the pole |
     | kp | 20.0 | (0, 200] | servo stiffness (the series spring), N m/rad |
     | squeeze | 0.008 | [-0.05, 0.05] | m the gait's helix is commanded inside the pole contact |
+    | squeeze_slope | 0.0 | [0, 1] | m of squeeze given up per m the pole is under 0.075 m |
     | steps_per_cycle | 220 | int in [2, 2200] | keyframes per gait cycle (one per step, 0.1 s) |
     | cycles_per_episode | 2 | int in [1, 8] | episode length in cycles (the paper's evaluation) |
     | reward_weights | {"climb": 1, "slip": 1} | dict of numbers | weights of the reward terms |
@@ -338,6 +337,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         roll_limit: float | None = None,
         gait_modulation: Mapping[str, float] | None = None,
         modulation_sections: int | None = None,
+        squeeze_slope: float = 0.0,
         render_mode: str | None = None,
         width: int = 640,
         height: int = 480,
@@ -366,6 +366,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             roll_limit,
             gait_modulation,
             modulation_sections,
+            squeeze_slope,
             render_mode,
             width,
             height,
@@ -389,6 +390,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         self.friction = check_positive("friction", friction, FRICTION_MAX)
         self.kp = check_positive("kp", kp, KP_MAX)
         self.squeeze = check_range("squeeze", squeeze, *SQUEEZE_RANGE)
+        self.squeeze_slope = check_range("squeeze_slope", squeeze_slope, 0.0, 1.0)
         self.reward_weights = check_reward_weights(
             None
             if reward_weights is None
@@ -421,9 +423,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         # The gait must exist for every pole the episodes can draw (its radius follows the pole).
         radii = {self.pole_radius, *self.randomization.get("pole_radius", ())}
         for radius in sorted(radii):
-            if helix_radius(radius, self.squeeze) <= 0.0 and "radius" not in self.gait_kwargs:
+            squeeze = self.squeeze_at(radius)
+            if helix_radius(radius, squeeze) <= 0.0 and "radius" not in self.gait_kwargs:
                 raise ValueError(
-                    f"squeeze={self.squeeze} leaves no helix radius for a pole of {radius} m "
+                    f"squeeze={squeeze} leaves no helix radius for a pole of {radius} m "
                     f"(squeeze must be below pole radius + {SEA_MODULE_RADIUS} m)"
                 )
             start_gait = self.base_gait if GAITS[self.base_gait] else "acl"
@@ -542,8 +545,16 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
         return model, mujoco.MjData(model)
 
+    def squeeze_at(self, pole_radius: float) -> float:
+        """The squeeze (m) the gait's helix is commanded with on a pole of ``pole_radius``:
+        ``squeeze``, less ``squeeze_slope`` times how much thinner the pole is than the default
+        0.075 m. At 1 the helix keeps the radius it has on the default pole (Eq. 1's r), which
+        the +-90 deg joints can still curl; a tighter one is clipped (see "Non-rolling task")."""
+        return self.squeeze - self.squeeze_slope * max(0.0, DEFAULT_POLE_RADIUS - pole_radius)
+
     def _gait_kwargs(self, pole_radius: float) -> dict[str, Any]:
-        kwargs = {"radius": helix_radius(pole_radius, self.squeeze), **self.gait_kwargs}
+        kwargs = {"radius": helix_radius(pole_radius, self.squeeze_at(pole_radius))}
+        kwargs.update(self.gait_kwargs)
         return {**kwargs, "n_joints": self.n_joints, "steps_per_cycle": self.steps_per_cycle}
 
     def _make_gait(self, pole_radius: float, base: str | None = None) -> Gait | None:

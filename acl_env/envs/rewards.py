@@ -66,7 +66,7 @@ REWARD_TERMS: dict[str, Callable[[StepMeasures], float]] = {
     "energy": energy_term,
     "action_rate": action_rate_term,
 }
-# roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v2), where rolling is what
+# roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v3), where rolling is what
 # the task forbids; energy and action_rate 0: off unless a recipe asks for them. With all three
 # at weight 0 the reward equals climb and slip's to the bit.
 DEFAULT_REWARD_WEIGHTS: dict[str, float] = {

@@ -20,8 +20,9 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the same reward weights
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
-  a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v2``: its roll term and
-  roll limit apply); skipped with a note when the file has no such entry.
+  a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v3``: its roll term and
+  roll limit apply; a policy on the superseded v2 is judged against v2's own, ``acl_noroll_v2``);
+  skipped with a note when the file has no such entry.
 
 All run at the env's default conditions plus the policy's non-training env kwargs plus
 ``--env-kwargs``; domain randomisation is training-only. Every controller's env computes its
@@ -49,7 +50,7 @@ import numpy as np
 import yaml
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_V2_ID, ROLLING_HELIX_CLIMB_ID
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, check_reward_weights
 from acl_env.evaluation import (
     CI_NOTE,
@@ -82,7 +83,7 @@ TRAINING_ONLY_KWARGS = ("domain_randomization",)
 # Kwargs tied to one base gait's shape: not passed to another gait's env, nor to the default
 # open loop (a policy trained on a reshaped gait, e.g. the tuned one, is still judged against
 # the env's default ACL gait and, separately, against the tuned one).
-GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze")
+GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze", "squeeze_slope")
 # Kwargs that only shape the policy's action: the open loops play a zero action without them.
 POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections")
 SAME_CADENCE = "open_loop_acl_same_cadence"
@@ -212,6 +213,16 @@ def is_non_rolling(env_id: str, env_kwargs: dict[str, Any]) -> bool:
 
 
 TUNED_KEYS = {False: "acl", True: "acl_noroll"}  # tuned_gaits.yml entry per non-rolling flag
+# Superseded envs keep the tuned entry their policies were judged against: v2's registered gait is
+# the study on v1's gait tables ("acl_noroll_v2"), v3's the same study rerun on v2's ("acl_noroll").
+TUNED_KEYS_BY_ENV = {ACL_CLIMB_NOROLL_V2_ID: "acl_noroll_v2"}
+
+
+def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
+    """The tuned-gaits entry evaluation plays as ``open_loop_tuned`` for a policy on ``env_id``."""
+    if non_rolling and env_id in TUNED_KEYS_BY_ENV:
+        return TUNED_KEYS_BY_ENV[env_id]
+    return TUNED_KEYS[non_rolling]
 
 
 def shown_path(path: str | Path) -> str:
@@ -226,13 +237,17 @@ class TunedGaitsError(ValueError):
 
 
 def tuned_gait(
-    path: Path, reward_weights: dict[str, float] | None, non_rolling: bool, key: str | None = None
+    path: Path,
+    reward_weights: dict[str, float] | None,
+    non_rolling: bool,
+    key: str | None = None,
+    env_id: str | None = None,
 ) -> tuple[tuple[str, dict[str, Any]] | None, str]:
     """``(env_id, env_kwargs)`` of the tuned open-loop gait (``train/configs/tuned_gaits.yml``,
-    written by ``train/tune_gait.py``; entry ``key``, by default ``acl`` or ``acl_noroll``), and a
-    note that says which, or why there is none (``None``). A malformed file raises
-    :class:`TunedGaitsError`."""
-    key = key or TUNED_KEYS[non_rolling]
+    written by ``train/tune_gait.py``; entry ``key``, by default :func:`default_tuned_key` of the
+    policy's ``env_id``), and a note that says which, or why there is none (``None``). A
+    malformed file raises :class:`TunedGaitsError`."""
+    key = key or default_tuned_key(env_id, non_rolling)
     shown = shown_path(path)
     if not path.is_file():
         return None, f"{shown} does not exist (run train/tune_gait.py)"
@@ -241,18 +256,18 @@ def tuned_gait(
         if entry is None:
             flag = " --no-roll" if non_rolling else ""
             return None, f"{shown} has no {key!r} entry (run train/tune_gait.py{flag})"
-        env_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
+        tuned_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
         tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
         objective = entry["objective"]
     except (yaml.YAMLError, AttributeError, KeyError, TypeError, ValueError) as error:
         raise TunedGaitsError(f"{shown} is not a tuned-gaits file ({error})") from None
-    if env_id not in gymnasium.registry:
-        return None, f"{shown}: {key!r} was tuned on {env_id}, not registered: re-run the tuner"
+    if tuned_id not in gymnasium.registry:
+        return None, f"{shown}: {key!r} was tuned on {tuned_id}, not registered: re-run the tuner"
     weights = {**DEFAULT_REWARD_WEIGHTS, **(reward_weights or {})}
     note = f"{shown}: {key!r}, best of {entry.get('trials', '?')} trials for {objective}"
     if {k: float(v) for k, v in tuned_for.items()} != {k: float(v) for k, v in weights.items()}:
         note += f" under reward_weights {tuned_for}, NOT the {weights} evaluated here"
-    return (env_id, env_kwargs), note
+    return (tuned_id, env_kwargs), note
 
 
 def evaluation_env_kwargs(folder: PolicyFolder) -> dict[str, Any]:
@@ -269,7 +284,7 @@ def build_controllers(
     tuned_key: str | None = None,
 ) -> tuple[list[Controller], list[str]]:
     """The controllers to compare, all under the same conditions, and notes on any skipped
-    (``tuned_key``: the tuned-gaits entry, by default ``acl`` or ``acl_noroll``)."""
+    (``tuned_key``: the tuned-gaits entry, by default :func:`default_tuned_key`)."""
     base: dict[str, Any] = {}
     acl_id = ACL_CLIMB_ID
     if folder is not None:
@@ -288,7 +303,7 @@ def build_controllers(
         acl_kwargs = other_gait
         controllers.append(Controller("policy", folder.env_id, base, str(folder.path)))
         if env_setting(folder.env_id, base, "base_gait", "acl") == "acl":
-            # The registered gait of the policy's env (ACLClimbNoRoll-v2: the non-rolling one),
+            # The registered gait of the policy's env (ACLClimbNoRoll-v3: the non-rolling one),
             # without any reshaping of it the policy was trained on.
             acl_id = folder.env_id
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
@@ -305,7 +320,8 @@ def build_controllers(
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
-    tuned, note = tuned_gait(tuned_path, base.get("reward_weights"), non_rolling, tuned_key)
+    weights = base.get("reward_weights")
+    tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, acl_id)
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
     on_tuned = tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items())
     reshaped = any(k in open_loop for k in GAIT_KWARGS)

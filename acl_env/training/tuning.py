@@ -1,14 +1,14 @@
 """The open-loop tuner: Optuna searches the ACL gait's parameters for the best open-loop gait.
 
-Each trial builds ``ACLClimb-v1`` (``ACLClimbNoRoll-v2`` with ``--no-roll``: the non-rolling
-task, its roll term and ``roll_limit``) with a candidate squeeze and ``gait_kwargs`` (amp_pitch,
-spatial_freq, amp_radial, radial_freq, pitch of Eq. 1; ``rolls_per_cycle`` 1, or 0 with
-``--no-roll``), plays it open loop (zero action: one keyframe per step, the gait's own cadence) on
-a few seeds, and scores it by one evaluation metric, by default the env's reward per gait cycle
-under the given ``reward_weights`` (default: the training config's entry for that env id). A
-gait that falls (or, on the non-rolling task, ends by ``roll_limit``) on any seed, or whose
-keyframe table the +-90 deg joint limit clips in more than ``max_clipped`` of its (keyframe,
-joint) entries, is disqualified (the trial is pruned, its reason in the user
+Each trial builds ``ACLClimb-v1`` (``ACLClimbNoRoll-v3`` with ``--no-roll``: the non-rolling task,
+its roll term and ``roll_limit``; ``--env`` names another) with a candidate squeeze and
+``gait_kwargs`` (amp_pitch, spatial_freq, amp_radial, radial_freq, pitch of Eq. 1;
+``rolls_per_cycle`` 1, or 0 with ``--no-roll``), plays it open loop (zero action: one keyframe per
+step, the gait's own cadence) on a few seeds, and scores it by one evaluation metric, by default
+the env's reward per gait cycle under the given ``reward_weights`` (default: the training config's
+entry for that env id). A gait that falls (or, on the non-rolling task, ends by ``roll_limit``) on
+any seed, or whose keyframe table the +-90 deg joint limit clips in more than ``max_clipped`` of
+its (keyframe, joint) entries, is disqualified (the trial is pruned, its reason in the user
 attribute ``disqualified``); so is, with ``--no-roll``, a gait that touches the pole over more than
 90 degrees of some module's circumference (it rolls after all: ``touched_arc_deg``). Episodes are
 rolled out and measured by :mod:`acl_env.evaluation` (``run_episode``, ``Episode.metrics``), and
@@ -36,8 +36,8 @@ Output, ``train/configs/tuned_gaits.yml`` (read by evaluation), one entry per ke
 "acl_noroll" with ``--no-roll``)::
 
     acl:
-      env_id: acl_env/ACLClimb-v1     # the env the gait was tuned on (ACLClimbNoRoll-v2 for
-                                       # acl_noroll)
+      env_id: acl_env/ACLClimb-v1     # the env the gait was tuned on (ACLClimbNoRoll-v3, or
+                                       # v2 for the studies run before v3, for acl_noroll)
       env_kwargs:                      # pass to gymnasium.make(env_id, **env_kwargs)
         squeeze: 0.004                 # m
         gait_kwargs: {pitch: .., amp_pitch: .., spatial_freq: .., amp_radial: ..,
@@ -981,6 +981,13 @@ def make_parser() -> cli.ArgumentParser:
     positive = cli.int_at_least(1)
     parser.add_argument("--no-roll", action="store_true", help="rolls_per_cycle=0 (key acl_noroll)")
     parser.add_argument(
+        "--env",
+        default=None,
+        help=f"env every trial plays (default: {ACL_CLIMB_ID}, or {ACL_CLIMB_NOROLL_ID} with "
+        f"--no-roll; a trial sets the whole gait, so another version of the task plays the same "
+        f"trials: name the one a stored study was run on to resume or redraw it)",
+    )
+    parser.add_argument(
         "--objective",
         default="reward_per_gait_cycle",
         help=f"evaluation metric to optimise, one of {list(OBJECTIVES)}",
@@ -1074,7 +1081,10 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         raise UsageError("--max-arc", f"must be in (0, 360] degrees, got {max_arc}")
     if len(set(args.seeds)) != len(args.seeds):
         raise UsageError("--seeds", f"repeated seeds {args.seeds}")
-    env_id = ACL_CLIMB_NOROLL_ID if args.no_roll else ACL_CLIMB_ID
+    env_id = args.env or (ACL_CLIMB_NOROLL_ID if args.no_roll else ACL_CLIMB_ID)
+    if env_id not in gymnasium.registry or not env_id.startswith("acl_env/"):
+        known = [k for k in gymnasium.registry if k.startswith("acl_env/")]
+        raise UsageError("--env", f"unknown env {env_id!r}; known: {known}")
     if args.reward_weights is None:
         try:
             hyperparams = load_hyperparams(args.config, env_id)

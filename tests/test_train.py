@@ -17,6 +17,7 @@ import yaml
 from acl_env import (
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_ID,
+    ACL_CLIMB_NOROLL_V2_ID,
     NOROLL_KWARGS,
     ROLLING_HELIX_CLIMB_ID,
     evaluation,
@@ -29,6 +30,7 @@ TRAIN = ROOT / "train"
 
 ACL_ID = ACL_CLIMB_ID
 HELIX_ID = ROLLING_HELIX_CLIMB_ID
+NOROLL_IDS = (ACL_CLIMB_NOROLL_ID, ACL_CLIMB_NOROLL_V2_ID)  # v2: the ablations trained on it
 
 SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}  # 20-step episodes
 SHORT_ARGS = [f"{k}:{v}" for k, v in SHORT.items()]
@@ -201,7 +203,7 @@ SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
 # ppo.yml's shipped non-rolling recipe; the roll term stays. Recipe -> that study's gaits file
 # and entry.
 NOROLL_CLIMB_GAITS = {
-    "ppo.yml": ("tuned_gaits_noroll_v2.yml", "acl_noroll"),
+    "ablations/noroll_v2_gait.yml": ("tuned_gaits.yml", "acl_noroll"),
     "ablations/noroll_climb_gait_action_rate.yml": (
         "tuned_gaits_noroll_climb.yml",
         "acl_noroll_climb",
@@ -226,11 +228,11 @@ NOROLL_CLIMB_GAITS = {
 }
 # Climb recipes on a gait another study found: recipe -> that study's objective (by default the
 # climb's). The registered reward's study, rerun on v2, found the gait that climbs furthest.
-NOROLL_GAIT_OBJECTIVE = {"ppo.yml": "reward_per_gait_cycle"}
+NOROLL_GAIT_OBJECTIVE = {"ablations/noroll_v2_gait.yml": "reward_per_gait_cycle"}
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
 # Terms a climb recipe adds to the climb objective's weights (a shaping ablation).
 NOROLL_CLIMB_EXTRA_WEIGHTS = {
-    "ppo.yml": {"action_rate": 0.001},
+    "ablations/noroll_v2_gait.yml": {"action_rate": 0.001},
     "ablations/noroll_thin_gait_action_rate.yml": {"action_rate": 0.001},
     "ablations/noroll_climb_gait_action_rate.yml": {"action_rate": 0.001},
 }
@@ -249,7 +251,7 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
     weights = hyperparams["env_kwargs"]["reward_weights"]
     if f"ablations/{path.name}" in NOROLL_CLIMB_OBJECTIVE:  # checked by the test below
         assert weights["slip"] == 0.0
-    elif env_id == ACL_CLIMB_NOROLL_ID:  # the task's registered weights, the tuner's objective
+    elif env_id in NOROLL_IDS:  # the task's registered weights, the tuner's objective
         assert weights == NOROLL_KWARGS["reward_weights"]
     else:  # the shipped recipe's weights, or a shaping ablation's (evaluated under the shipped)
         assert weights["slip"] == SHAPED_SLIP_WEIGHT.get(path.name, 2.0)
@@ -260,7 +262,9 @@ def test_noroll_climb_recipe_plays_the_climb_studys_gait(recipe: str) -> None:
     """The shipped non-rolling recipe (and its ablations) start from the gait a climb study found
     (or, where NOROLL_GAIT_OBJECTIVE says, another study), and train for the climb (slip weight
     0; the registered roll term kept), so its open loop is the best gait found for the climb."""
-    hyperparams = config.load_hyperparams(TRAIN / "configs" / recipe, ACL_CLIMB_NOROLL_ID)
+    path = TRAIN / "configs" / recipe
+    (env_id,) = yaml.safe_load(path.read_text())  # one entry per file
+    hyperparams = config.load_hyperparams(path, env_id)
     gaits, key = NOROLL_CLIMB_GAITS[recipe]
     entry = yaml.safe_load((TRAIN / "configs" / gaits).read_text())[key]
     assert entry["objective"] == NOROLL_GAIT_OBJECTIVE.get(recipe, "climb_per_gait_cycle_m")

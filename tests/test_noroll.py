@@ -483,3 +483,23 @@ def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path:
     gait = run_episode(env, zero_policy(env), 0).metrics()["climb_per_gait_cycle_m"]
     assert sum(document["gait_per_bin"]["climb"]) == pytest.approx(gait, rel=1e-6)
     assert sum(document["policy_per_bin"]["climb"]) != pytest.approx(gait, rel=1e-3)
+
+
+def test_squeeze_slope_sweep_leaves_the_default_pole_alone(tmp_path: Path) -> None:
+    """benchmarks/squeeze_slope.py: on the default 0.075 m pole every slope plays the same gait
+    (the same climb, seed for seed); on a thinner pole the slope changes it; the record is written
+    and a slope the env refuses stops the sweep before any episode."""
+    import json
+
+    main = runpy.run_path(str(ROOT / "benchmarks" / "squeeze_slope.py"), run_name="sweep")["main"]
+    out = tmp_path / "sweep.json"
+    args = ["--slopes", "0", "1", "--pole-radii", "0.065", "0.075", "--episodes", "2"]
+    args += ["--workers", "1", "--no-progress-bar", "--json", str(out)]
+    record = main([*args, "--env-kwargs", "steps_per_cycle:20", "cycles_per_episode:1"])
+    cells = record["cells"]
+    assert cells["0.0"]["0.075"]["climb_cm"] == cells["1.0"]["0.075"]["climb_cm"]
+    assert cells["0.0"]["0.065"]["climb_cm"] != cells["1.0"]["0.065"]["climb_cm"]
+    assert json.loads(out.read_text())["seeds"] == [0, 1]
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--slopes", "2", "--episodes", "1"])
+    assert exit_info.value.code == 2

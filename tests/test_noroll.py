@@ -281,6 +281,32 @@ def test_a_policy_is_judged_against_its_versions_tuned_gait(
     assert by_name["open_loop_acl"].env_id == env_id
 
 
+def test_gait_tuned_on_a_thin_pole_is_played_as_tuned_there(tmp_path) -> None:
+    """A gait a study tuned on given poles (here on v2, before squeeze_slope) keeps the squeeze it
+    was tuned with when a v3 policy is judged against it: squeeze_slope 0, not v3's 0.85. A gait
+    tuned on the default pole, where the slope does not act, takes the policy env's slope."""
+    from acl_env.training.evaluate import build_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    configs = TUNED_GAITS.parent
+    trained = {**SHORT, "reward_weights": NOROLL_KWARGS["reward_weights"]}
+    folder = PolicyFolder(
+        tmp_path, ACL_CLIMB_NOROLL_ID, {"env_kwargs": trained}, tmp_path / "m", None
+    )
+    thin = configs / "tuned_gaits_noroll_climb_pole065.yml"
+    controllers, _ = build_controllers(folder, {}, None, thin, "acl_noroll_climb_pole065")
+    tuned = {c.name: c for c in controllers}["open_loop_tuned"]
+    assert tuned.env_id == ACL_CLIMB_NOROLL_ID and tuned.env_kwargs["squeeze_slope"] == 0.0
+    env = tuned.make_env(pole_radius=0.065)
+    env.reset(seed=0)
+    squeeze = yaml.safe_load(thin.read_text())["acl_noroll_climb_pole065"]["env_kwargs"]["squeeze"]
+    assert env.unwrapped.squeeze_at(0.065) == squeeze
+    climb = configs / "tuned_gaits_noroll_climb_v2_local.yml"
+    controllers, _ = build_controllers(folder, {}, None, climb, "acl_noroll_climb_wide_radial")
+    tuned = {c.name: c for c in controllers}["open_loop_tuned"]
+    assert "squeeze_slope" not in tuned.env_kwargs  # v3's registered 0.85 applies
+
+
 def test_tuned_key_picks_another_entry_and_a_missing_one_is_refused(
     capsys: pytest.CaptureFixture[str],
 ) -> None:

@@ -22,7 +22,8 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
   (``train/configs/tuned_gaits.yml``, written by ``train/tune_gait.py``), the non-rolling one for
   a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v3``: its roll term and
   roll limit apply; a policy on the superseded v2 is judged against v2's own, ``acl_noroll_v2``);
-  skipped with a note when the file has no such entry.
+  a gait tuned on given poles keeps the ``squeeze_slope`` of the env it was tuned on; skipped
+  with a note when the file has no such entry.
 
 All run at the env's default conditions plus the policy's non-training env kwargs plus
 ``--env-kwargs``; domain randomisation is training-only. Every controller's env computes its
@@ -259,10 +260,17 @@ def tuned_gait(
         tuned_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
         tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
         objective = entry["objective"]
+        on_poles = "pole_radius" in (entry.get("condition") or {})
     except (yaml.YAMLError, AttributeError, KeyError, TypeError, ValueError) as error:
         raise TunedGaitsError(f"{shown} is not a tuned-gaits file ({error})") from None
     if tuned_id not in gymnasium.registry:
         return None, f"{shown}: {key!r} was tuned on {tuned_id}, not registered: re-run the tuner"
+    if on_poles:
+        # Tuned on given poles, its squeeze is the one it had there: it keeps the squeeze_slope
+        # of the env it was tuned on (0 before v3), not the one of the env it is played on. A gait
+        # tuned on the default pole, where the slope never acts, takes that env's slope.
+        slope = env_setting(tuned_id, env_kwargs, "squeeze_slope", 0.0)
+        env_kwargs.setdefault("squeeze_slope", slope)
     weights = {**DEFAULT_REWARD_WEIGHTS, **(reward_weights or {})}
     note = f"{shown}: {key!r}, best of {entry.get('trials', '?')} trials for {objective}"
     if {k: float(v) for k, v in tuned_for.items()} != {k: float(v) for k, v in weights.items()}:

@@ -209,9 +209,10 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
       cycle, roll swept <= 69 deg, touched arc <= 60 deg, under 0.004 turns per cycle (the
       rolling ACL: 19.8 cm and -1.0 turn per cycle, 730 deg swept, 360 deg touched); 8.7 cm per
       gait cycle over 20 seeds, as far as any open loop the climb studies found (8.8-8.9 cm).
-      It sits near a cliff: the joint limit clips 9 % of its commands at 0.075 m, 18 % on the
-      0.065 m pole (inside the training randomisation), where it rolls past ``roll_limit`` within
-      30 steps, and 21 % on the 0.055 m pole, which it loses at once.
+      Played with its squeeze as tuned it sits near a cliff: the joint limit clips 9 % of its
+      commands at 0.075 m, 18 % on the 0.065 m pole (inside the training randomisation), where
+      it rolls past ``roll_limit`` within 30 steps, and 21 % on the 0.055 m pole, which it loses
+      at once; hence the thin-pole squeeze below.
     * reward weights ``{"climb": 1, "slip": 0.25, "roll": 0.05}``. Climbing by rolling is worth
       ~0.2 m per turn (the rolling ACL), so rolling pays only while ``w_roll`` is below
       0.2 / (2 pi) = 0.03 per rad; 0.05 makes every turn cost more than it climbs. The open loop
@@ -223,6 +224,11 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     * ``roll_limit`` 90 deg: the issue's bound on the touched arc, in the body frame. The episode
       ends when a module's roll sweeps more (the open loop sweeps up to 69); whatever rolling
       could gain after that is lost, and evaluation counts such episodes (``rolled``).
+
+    * ``squeeze_slope`` 0.85: on a pole thinner than 0.075 m the helix is commanded looser by
+      0.85 x the difference (``squeeze_at``), so that the joints can still curl it: 9-12 % of the
+      commands clipped from 0.055 to 0.075 m, and open loop no roll or fall on any of those poles
+      (8.2 cm per gait cycle at 0.065 m, 3.5 cm at 0.055 m; README, "The thin-pole squeeze").
 
     The shipped non-rolling policy (``train/configs/ppo.yml``) plays this gait and trains for
     the climb itself (``slip`` weight 0, the roll term and limit kept), the issue's metric, with

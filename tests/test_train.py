@@ -230,6 +230,10 @@ NOROLL_CLIMB_GAITS = {
 # climb's). The registered reward's study, rerun on v2, found the gait that climbs furthest.
 NOROLL_GAIT_OBJECTIVE = {"ablations/noroll_v2_gait.yml": "reward_per_gait_cycle"}
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
+# Climb recipes on v3's registered gait (no gait kwargs), as ppo.yml's: recipe -> the terms it
+# adds to the climb objective's weights. residual_016 doubles the residual's bound and keeps the
+# action-rate penalty per squared radian: 0.001 / 0.08**2 = 0.004 / 0.16**2.
+NOROLL_V3_CLIMB_EXTRA_WEIGHTS = {"ablations/noroll_v3_residual_016.yml": {"action_rate": 0.004}}
 # Terms a climb recipe adds to the climb objective's weights (a shaping ablation).
 NOROLL_CLIMB_EXTRA_WEIGHTS = {
     "ablations/noroll_v2_gait.yml": {"action_rate": 0.001},
@@ -251,6 +255,14 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
     weights = hyperparams["env_kwargs"]["reward_weights"]
     if f"ablations/{path.name}" in NOROLL_CLIMB_OBJECTIVE:  # checked by the test below
         assert weights["slip"] == 0.0
+    elif f"ablations/{path.name}" in NOROLL_V3_CLIMB_EXTRA_WEIGHTS:  # the registered gait
+        assert env_id == ACL_CLIMB_NOROLL_ID
+        assert not {"squeeze", "gait_kwargs"} & set(hyperparams["env_kwargs"])
+        assert weights == {
+            **NOROLL_KWARGS["reward_weights"],
+            "slip": 0.0,
+            **NOROLL_V3_CLIMB_EXTRA_WEIGHTS[f"ablations/{path.name}"],
+        }
     elif env_id in NOROLL_IDS:  # the task's registered weights, the tuner's objective
         assert weights == NOROLL_KWARGS["reward_weights"]
     else:  # the shipped recipe's weights, or a shaping ablation's (evaluated under the shipped)

@@ -302,6 +302,17 @@ def run_episode(
     return episode
 
 
+def action_recorder() -> tuple[list[np.ndarray], StepCallback]:
+    """A list and a :func:`run_episode` callback that appends each action played (a copy)."""
+    actions: list[np.ndarray] = []
+
+    def record(env: gymnasium.Env, obs: np.ndarray, action: Any, info: dict[str, Any]) -> None:
+        if action is not None:
+            actions.append(np.array(action, dtype=float))
+
+    return actions, record
+
+
 # --- open-loop policies --------------------------------------------------------------------------
 
 

@@ -30,7 +30,6 @@ near 0).
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +37,7 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env.evaluation import Policy, mean_ci95, run_episode, zero_policy
+from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
 from acl_env.model import apply_physics_options
 from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
@@ -61,17 +60,6 @@ def held(policy: Policy, k: int) -> Policy:
         return state["action"]
 
     return act
-
-
-def recorder() -> tuple[list[np.ndarray], Callable[..., None]]:
-    """A list and a :func:`acl_env.evaluation.run_episode` callback that appends each action."""
-    actions: list[np.ndarray] = []
-
-    def record(env: Any, obs: Any, action: Any, info: Any) -> None:
-        if action is not None:
-            actions.append(np.asarray(action, dtype=float))
-
-    return actions, record
 
 
 def high_band_share(actions: np.ndarray) -> float:
@@ -120,7 +108,7 @@ def run(
             played, shares = [], []
             for seed in range(episodes):
                 actor = held(policy, k) if k else zero_policy(env)
-                actions, record = recorder()
+                actions, record = action_recorder()
                 played.append(run_episode(env, actor, seed, callback=record))
                 shares.append(high_band_share(np.array(actions)))
                 bar.update()

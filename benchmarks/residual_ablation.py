@@ -31,7 +31,7 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env.evaluation import Policy, mean_ci95, run_episode, zero_policy
+from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
 from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
 from acl_env.training.evaluate import evaluation_env_kwargs
@@ -71,17 +71,6 @@ def masked(policy: Policy, columns: np.ndarray) -> Policy:
     return act
 
 
-def recording(policy: Policy, actions: list[np.ndarray]) -> Policy:
-    """``policy`` that appends each action it returns to ``actions``."""
-
-    def act(obs: np.ndarray) -> np.ndarray:
-        action = policy(obs)
-        actions.append(np.asarray(action, dtype=float))
-        return action
-
-    return act
-
-
 def summarize_episodes(name: str, played: list[Any]) -> dict[str, Any]:
     """One controller's row: climb per gait cycle, largest touched arc, falls and rolls."""
     metrics = [e.metrics() for e in played]
@@ -110,18 +99,20 @@ def run(
     controllers += [(f"policy, joints {lo}-{hi} zeroed", (lo, hi)) for lo, hi in groups]
     controllers.append(("zero action (its gait)", "zero"))
     rows = []
-    actions: list[np.ndarray] = []
+    actions, record = action_recorder()  # the policy's own actions, as trained
     bar = tqdm(total=len(controllers) * episodes, unit="ep", disable=not progress)
     for name, group in controllers:
         played = []
         for seed in range(episodes):
             if group is None:
-                actor = recording(policy, actions)
-            elif group == "zero":
-                actor = zero_policy(env)
+                played.append(run_episode(env, policy, seed, callback=record))
             else:
-                actor = masked(policy, columns[group[0] : group[1] + 1])
-            played.append(run_episode(env, actor, seed))
+                actor = (
+                    zero_policy(env)
+                    if group == "zero"
+                    else masked(policy, columns[group[0] : group[1] + 1])
+                )
+                played.append(run_episode(env, actor, seed))
             bar.update()
         rows.append(summarize_episodes(name, played))
     bar.close()

@@ -163,6 +163,32 @@ def test_non_rolling_acl_holds_its_roll_within_the_cycle(amp_pitch: float) -> No
     assert np.abs(drift).max() < STILL_ROLL_TOL
 
 
+@pytest.mark.parametrize("rock_phase", [0.0, 1.0])
+def test_rocking_roll_is_the_closed_form_helix_rotated_back_and_forth(rock_phase: float) -> None:
+    """phi_0 = rock_amp sin(2 pi phase + rock_phase) on the rolling helix (Eq. 4-5 with a
+    rocking roll offset): joint j's angle is A cos / sin(phi_0 + tau l (j + 1))."""
+    amp = math.radians(20.0)
+    gait = RollingHelixGait(rolls_per_cycle=0.0, rock_amp=amp, rock_phase=rock_phase)
+    phases = np.array([0.0, 0.1, 0.37, 0.8])
+    phi0 = ROLL_SIGN * amp * np.sin(2.0 * np.pi * phases + rock_phase)
+    arg = phi0[:, None] + gait.tau * gait.joint_arclengths
+    dorsal = np.arange(gait.n_joints) % 2 == 0
+    expected = np.where(dorsal, gait.amplitude * np.cos(arg), gait.amplitude * np.sin(arg))
+    np.testing.assert_allclose(gait.raw_angles(phases), expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("cls", [RollingHelixGait, ACLGait])
+def test_rocking_roll_returns_each_cycle(cls: type[Gait]) -> None:
+    """A rocking gait is periodic and, over the cycle, does not roll: its measured rolls stay at
+    the commanded whole number, while its table differs from the gait without the rocking."""
+    rocking = cls(rolls_per_cycle=0.0, rock_amp=math.radians(30.0), rock_phase=0.5)
+    still = cls(rolls_per_cycle=0.0)
+    np.testing.assert_allclose(rocking.raw_angles([0.0]), rocking.raw_angles([1.0]), atol=1e-9)
+    assert rocking.measured_rolls_per_cycle() == pytest.approx(0.0, abs=ROLL_TOL)
+    assert np.abs(rocking.cycle() - still.cycle()).max() > 0.1
+    assert np.array_equal(cls(rolls_per_cycle=0.0, rock_phase=2.0).cycle(), still.cycle())
+
+
 # --- thin poles: where the curve nearly straightens -----------------------------------------
 
 # v2's registered non-rolling gait and the climb study's larger waves (train/configs), whose
@@ -233,6 +259,8 @@ BAD_ARGUMENTS = [
     ({"steps_per_cycle": 1}, "steps_per_cycle"),
     ({"module_length": 0.0}, "module_length"),
     ({"rolls_per_cycle": 0.5}, "rolls_per_cycle"),  # not periodic
+    ({"rock_amp": -0.1}, "rock_amp"),
+    ({"rock_amp": 4.0}, "rock_amp"),  # beyond pi: a whole roll and more each way
     *(
         ({name: NAN}, name)
         for name in (
@@ -243,6 +271,8 @@ BAD_ARGUMENTS = [
             "rolls_per_cycle",
             "n_joints",
             "steps_per_cycle",
+            "rock_amp",
+            "rock_phase",
         )
     ),
     ({"radius": math.inf}, "radius"),

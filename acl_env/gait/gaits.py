@@ -6,7 +6,8 @@ dorsal (about the link's y axis), odd joints lateral (about z), joint ``j`` at a
 and rises with ``t``: the head is the lowest end, and climbing is motion toward the tail (+z).
 
 Both gaits are periodic in ``phase`` (cycles). ``phi_0`` rolls the body once per cycle times
-``rolls_per_cycle`` (docs/gait.md#roll-offset), signed so that a positive roll rate climbs.
+``rolls_per_cycle`` (docs/gait.md#roll-offset), signed so that a positive roll rate climbs, plus
+an optional rocking roll that returns each cycle (``rock_amp``, ``rock_phase``).
 """
 
 from __future__ import annotations
@@ -83,6 +84,8 @@ class Gait:
         rolls_per_cycle: float,
         steps_per_cycle: int,
         module_diameter: float = SEA_MODULE_DIAMETER,
+        rock_amp: float = 0.0,
+        rock_phase: float = 0.0,
     ) -> None:
         self.n_joints = check_int("n_joints", n_joints, 3)
         self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2)
@@ -102,6 +105,10 @@ class Gait:
             raise ValueError(
                 f"rolls_per_cycle must be a whole number for a periodic gait, got {rolls_per_cycle}"
             )
+        self.rock_amp = check_finite("rock_amp", rock_amp)
+        if not 0.0 <= self.rock_amp <= np.pi:
+            raise ValueError(f"rock_amp must be in [0, pi] rad, got {rock_amp}")
+        self.rock_phase = check_finite("rock_phase", rock_phase)
         self.joint_limit = JOINT_LIMIT
 
     @property
@@ -115,8 +122,12 @@ class Gait:
         return self.module_length * np.arange(1, self.n_joints + 1)
 
     def roll_offset(self, phase: np.ndarray) -> np.ndarray:
-        """phi_0 (rad): ``rolls_per_cycle`` body rolls per cycle (Eq. 4-5)."""
-        return ROLL_SIGN * 2.0 * np.pi * self.rolls_per_cycle * np.asarray(phase, dtype=float)
+        """phi_0 (rad) of Eq. 4-5: ``rolls_per_cycle`` body rolls per cycle, plus a rocking roll
+        ``rock_amp sin(2 pi phase + rock_phase)`` that returns each cycle (0 unless set)."""
+        phase = np.asarray(phase, dtype=float)
+        angle = 2.0 * np.pi * phase
+        rock = self.rock_amp * np.sin(angle + self.rock_phase) if self.rock_amp else 0.0
+        return ROLL_SIGN * (self.rolls_per_cycle * angle + rock)
 
     def raw_angles(self, phases: np.ndarray) -> np.ndarray:
         """Unclipped joint angles, shape ``(len(phases), n_joints)``."""
@@ -188,6 +199,8 @@ class RollingHelixGait(Gait):
         rolls_per_cycle: float = 1.0,
         steps_per_cycle: int = 220,
         module_diameter: float = SEA_MODULE_DIAMETER,
+        rock_amp: float = 0.0,
+        rock_phase: float = 0.0,
     ) -> None:
         super().__init__(
             n_joints,
@@ -197,6 +210,8 @@ class RollingHelixGait(Gait):
             rolls_per_cycle,
             steps_per_cycle,
             module_diameter,
+            rock_amp,
+            rock_phase,
         )
         b = self.pitch / (2.0 * np.pi)
         self.kappa = self.radius / (self.radius**2 + b**2)
@@ -237,6 +252,9 @@ class ACLGait(Gait):
         amp_radial: radial wave amplitude A_r (m), 0 in the paper's Eq. 2.
         radial_freq: k_r, radial waves per turn.
         n_samples: grid points of t for the numerical curvature integration.
+        rock_amp, rock_phase: a rocking roll added to phi_0, ``rock_amp sin(2 pi phase +
+            rock_phase)`` (rad): the body rolls back and forth once per cycle and keeps its skin
+            within about 2 ``rock_amp`` of the pole (docs/gait.md#roll-offset).
     """
 
     def __init__(
@@ -253,6 +271,8 @@ class ACLGait(Gait):
         steps_per_cycle: int = 220,
         module_diameter: float = SEA_MODULE_DIAMETER,
         n_samples: int = 300,
+        rock_amp: float = 0.0,
+        rock_phase: float = 0.0,
     ) -> None:
         super().__init__(
             n_joints,
@@ -262,6 +282,8 @@ class ACLGait(Gait):
             rolls_per_cycle,
             steps_per_cycle,
             module_diameter,
+            rock_amp,
+            rock_phase,
         )
         amp_pitch = check_finite("amp_pitch", amp_pitch)
         amp_radial = check_finite("amp_radial", amp_radial)

@@ -451,8 +451,9 @@ def test_pole_sweep_has_one_cell_per_radius_and_plots_each_controller(tmp_path: 
         ("acl_climb_noroll_ppo", "eval_noroll.json", "open_loop_acl"),
         # the policy shipped until v3: on v2, with v3's gait as env kwargs
         ("ablations/noroll_v2_gait", "noroll_v2_gait/eval_noroll.json", "open_loop_policy_gait"),
-        # the shipped recipe's second training seed (README, "Three training seeds")
+        # the shipped recipe's other training seeds (README, "Three training seeds")
         ("ablations/noroll_v3_seed1", "eval_ablation_noroll_v3_seed1.json", "open_loop_acl"),
+        ("ablations/noroll_v3_seed2", "eval_ablation_noroll_v3_seed2.json", "open_loop_acl"),
     ],
 )
 def test_noroll_policy_replays_its_published_evaluation(

@@ -124,12 +124,16 @@ def held(row: dict[str, Any]) -> bool:
 def summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
     """The registered gait's climb, the best cell that held, and the issue's target."""
     registered = rows[0]["climb_per_gait_cycle_cm"]
-    best = max((row for row in rows if held(row)), key=lambda r: r["climb_per_gait_cycle_cm"])
+    held_rows = [row for row in rows if held(row)]
+    best = max(held_rows, key=lambda r: r["climb_per_gait_cycle_cm"], default=None)
+    keys = ("sweep", "series", "x", "climb_per_gait_cycle_cm")
     return {
         "registered_cm": registered,
         "target_cm": TARGET_RATIO * registered,
-        "best_held": {k: best[k] for k in ("sweep", "series", "x", "climb_per_gait_cycle_cm")},
-        "best_held_ratio": best["climb_per_gait_cycle_cm"] / registered,
+        "best_held": None if best is None else {k: best[k] for k in keys},
+        "best_held_ratio": math.nan
+        if best is None
+        else best["climb_per_gait_cycle_cm"] / registered,
     }
 
 
@@ -240,10 +244,15 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         )
     info = document["summary"]
     best = info["best_held"]
+    held_text = (
+        "no cell held"
+        if best is None
+        else f"best cell that held: {best['series']} at {best['x']:g}, "
+        f"{best['climb_per_gait_cycle_cm']:.2f} cm ({info['best_held_ratio']:.2f}x)"
+    )
     print(
-        f"registered gait {info['registered_cm']:.2f} cm per gait cycle; best cell that held: "
-        f"{best['series']} at {best['x']:g}, {best['climb_per_gait_cycle_cm']:.2f} cm "
-        f"({info['best_held_ratio']:.2f}x); the 1.5x target is {info['target_cm']:.2f} cm"
+        f"registered gait {info['registered_cm']:.2f} cm per gait cycle; {held_text}; "
+        f"the 1.5x target is {info['target_cm']:.2f} cm"
     )
     if args.json:
         write_json(args.json, document)

@@ -61,6 +61,8 @@ def test_summary_names_the_best_cell_that_neither_rolled_nor_fell() -> None:
     assert info["best_held"]["x"] == 0.9
     assert info["best_held_ratio"] == pytest.approx(9.0 / 8.0)
     assert info["target_cm"] == pytest.approx(12.0)
+    nothing = _ceiling()["summary"]([{**r, "falls": 1} for r in rows])  # e.g. on another env
+    assert nothing["best_held"] is None and math.isnan(nothing["best_held_ratio"])
 
 
 def test_a_rolling_env_is_refused(capsys: pytest.CaptureFixture[str]) -> None:

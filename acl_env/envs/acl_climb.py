@@ -14,6 +14,7 @@ from gymnasium import spaces
 from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
+from acl_env import tuned_gaits
 from acl_env.constants import (
     CONTROL_DT,
     DEFAULT_FRICTION,
@@ -259,7 +260,8 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
     | pole_radius | 0.075 | [0.01, 0.5] | m |
     | friction | 1.0 | (0, 5] | sliding friction of the snake's skin and the pole |
     | kp | 20.0 | (0, 200] | servo stiffness (the series spring), N m/rad |
-    | squeeze | 0.008 | [-0.05, 0.05] | m the gait's helix is commanded inside the pole contact |
+    | squeeze | None (0.008) | [-0.05, 0.05] | m the gait's helix is commanded inside the pole contact |
+    | tuned_gait | None | a key of ``acl_env.tuned_gaits`` | a shipped tuned gait: its squeeze, gait_kwargs |
     | squeeze_slope | 0.0 | [0, 1] | m of squeeze given up per m the pole is under 0.075 m |
     | steps_per_cycle | 220 | int in [2, 2200] | keyframes per gait cycle (one per step, 0.1 s) |
     | cycles_per_episode | 2 | int in [1, 8] | episode length in cycles (the paper's evaluation) |
@@ -329,7 +331,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         pole_radius: float = DEFAULT_POLE_RADIUS,
         friction: float = DEFAULT_FRICTION,
         kp: float = DEFAULT_KP,
-        squeeze: float = DEFAULT_SQUEEZE,
+        squeeze: float | None = None,
         steps_per_cycle: int = 220,
         cycles_per_episode: int = 2,
         reward_weights: Mapping[str, float] | None = None,
@@ -348,6 +350,7 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
         width: int = 640,
         height: int = 480,
         camera_name: str = TRACK_CAMERA,
+        tuned_gait: str | None = None,
     ) -> None:
         EzPickle.__init__(
             self,
@@ -377,10 +380,21 @@ class ACLClimbEnv(MujocoEnv, EzPickle):
             width,
             height,
             camera_name,
+            tuned_gait,
         )
         # Every argument is checked for type and range here (TypeError / ValueError naming it),
         # so that no value accepted now can crash reset or step later.
         self.base_gait = check_choice("base_gait", base_gait, tuple(GAITS))
+        self.tuned_gait = tuned_gait
+        if tuned_gait is not None:
+            # A shipped tuned gait by key (acl_env.tuned_gaits): its squeeze and gait_kwargs.
+            if self.base_gait != "acl":
+                raise ValueError(f"tuned_gait needs base_gait 'acl', got {base_gait!r}")
+            shape = tuned_gaits.resolve(
+                {"tuned_gait": tuned_gait, "squeeze": squeeze, "gait_kwargs": gait_kwargs}
+            )
+            squeeze, gait_kwargs = shape["squeeze"], shape["gait_kwargs"]
+        squeeze = DEFAULT_SQUEEZE if squeeze is None else squeeze
         self.n_joints = check_int("n_joints", n_joints, *N_JOINTS_RANGE)
         self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, *STEPS_PER_CYCLE_RANGE)
         self.cycles_per_episode = check_int(

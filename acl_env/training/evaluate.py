@@ -48,10 +48,15 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 import gymnasium
 import numpy as np
-import yaml
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_V2_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env import (
+    ACL_CLIMB_ID,
+    ACL_CLIMB_NOROLL_V2_ID,
+    ROLLING_HELIX_CLIMB_ID,
+    shipped,
+    tuned_gaits,
+)
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, check_reward_weights
 from acl_env.evaluation import (
     CI_NOTE,
@@ -76,9 +81,8 @@ from acl_env.training.policy import (
 )
 from acl_env.training.runs import write_json
 
-REPO_ROOT = Path(__file__).resolve().parents[2]
-DEFAULT_POLICY = REPO_ROOT / "train" / "policies" / "acl_climb_ppo"
-DEFAULT_TUNED_GAITS = REPO_ROOT / "train" / "configs" / "tuned_gaits.yml"
+DEFAULT_POLICY = shipped.policy_dir()
+DEFAULT_TUNED_GAITS = tuned_gaits.shipped_path()
 # Training-only env kwargs that evaluation drops from the policy's config.
 TRAINING_ONLY_KWARGS = ("domain_randomization",)
 # Kwargs tied to one base gait's shape: not passed to another gait's env, nor to the default
@@ -227,14 +231,18 @@ def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
 
 
 def shown_path(path: str | Path) -> str:
-    """``path`` as the records show it: relative to the repository when inside it, so that a
-    committed evaluation JSON names no folder of the machine it was made on."""
+    """``path`` as the records show it: a shipped file as ``acl_env/...``, one under the working
+    folder relative to it, so that a committed evaluation JSON names no folder of the machine it
+    was made on."""
     resolved = Path(path).resolve()
-    return str(resolved.relative_to(REPO_ROOT)) if resolved.is_relative_to(REPO_ROOT) else str(path)
+    package = shipped.data_path().parent.resolve()
+    if resolved.is_relative_to(package):
+        return str(Path("acl_env") / resolved.relative_to(package))
+    cwd = Path.cwd().resolve()
+    return str(resolved.relative_to(cwd)) if resolved.is_relative_to(cwd) else str(path)
 
 
-class TunedGaitsError(ValueError):
-    """A tuned-gaits file that is not one (not YAML, or an entry without the tuner's fields)."""
+TunedGaitsError = tuned_gaits.TunedGaitsError
 
 
 def tuned_gait(
@@ -244,24 +252,24 @@ def tuned_gait(
     key: str | None = None,
     env_id: str | None = None,
 ) -> tuple[tuple[str, dict[str, Any]] | None, str]:
-    """``(env_id, env_kwargs)`` of the tuned open-loop gait (``train/configs/tuned_gaits.yml``,
-    written by ``train/tune_gait.py``; entry ``key``, by default :func:`default_tuned_key` of the
+    """``(env_id, env_kwargs)`` of the tuned open-loop gait (the shipped tuned gaits, :mod:`acl_env.tuned_gaits`,
+    or a file written by ``acl-tune-gait``; entry ``key``, by default :func:`default_tuned_key` of the
     policy's ``env_id``), and a note that says which, or why there is none (``None``). A
     malformed file raises :class:`TunedGaitsError`."""
     key = key or default_tuned_key(env_id, non_rolling)
     shown = shown_path(path)
     if not path.is_file():
-        return None, f"{shown} does not exist (run train/tune_gait.py)"
+        return None, f"{shown} does not exist (run acl-tune-gait)"
+    entry = tuned_gaits.read(path).get(key)
+    if entry is None:
+        flag = " --no-roll" if non_rolling else ""
+        return None, f"{shown} has no {key!r} entry (run acl-tune-gait{flag})"
     try:
-        entry = (yaml.safe_load(path.read_text()) or {}).get(key)
-        if entry is None:
-            flag = " --no-roll" if non_rolling else ""
-            return None, f"{shown} has no {key!r} entry (run train/tune_gait.py{flag})"
         tuned_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
         tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
         objective = entry["objective"]
         on_poles = "pole_radius" in (entry.get("condition") or {})
-    except (yaml.YAMLError, AttributeError, KeyError, TypeError, ValueError) as error:
+    except (AttributeError, KeyError, TypeError, ValueError) as error:
         raise TunedGaitsError(f"{shown} is not a tuned-gaits file ({error})") from None
     if tuned_id not in gymnasium.registry:
         return None, f"{shown}: {key!r} was tuned on {tuned_id}, not registered: re-run the tuner"
@@ -281,7 +289,8 @@ def tuned_gait(
 def evaluation_env_kwargs(folder: PolicyFolder) -> dict[str, Any]:
     """The policy's training env kwargs less the training-only ones (domain randomisation):
     the conditions it is evaluated under before any override."""
-    return {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
+    kwargs = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
+    return tuned_gaits.resolve(kwargs)
 
 
 def build_controllers(

@@ -35,7 +35,7 @@ import gymnasium
 import numpy as np
 import yaml
 
-from acl_env import ACL_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, shipped
 from acl_env.training import cli, warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperparams
 from acl_env.training.config import (
@@ -61,8 +61,8 @@ from acl_env.training.runs import (
     write_json,
 )
 
-# The repository's config; absent from an installed wheel, where --config is required.
-DEFAULT_CONFIG = Path(__file__).resolve().parents[2] / "train" / "configs" / "ppo.yml"
+# The shipped recipe (package data), so an installed wheel trains without --config.
+DEFAULT_CONFIG = shipped.recipe_path()
 
 # Run settings outside the zoo config: kept by --resume unless given again.
 DEFAULT_SETTINGS: dict[str, Any] = {
@@ -93,7 +93,9 @@ def make_parser() -> cli.ArgumentParser:
     """The command line; ``--hyperparams`` and ``--env-kwargs`` take zoo-style ``key:value``."""
     parser = cli.ArgumentParser(prog="acl-train", description=(__doc__ or "").split("\n\n")[0])
     parser.add_argument("--env", help=f"registered env id (default {ACL_CLIMB_ID})")
-    parser.add_argument("--config", help="zoo-format YAML (default train/configs/ppo.yml)")
+    parser.add_argument(
+        "--config", help="zoo-format YAML (default: the shipped recipe, acl_env/data/ppo.yml)"
+    )
     parser.add_argument(
         "--seed", type=cli.int_at_least(0), help=f"run seed (default {DEFAULT_SETTINGS['seed']})"
     )

@@ -91,7 +91,7 @@ import sqlalchemy.exc
 import yaml
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, shipped, tuned_gaits
 from acl_env.evaluation import METRICS, jsonable, mean_ci95, run_episode, zero_policy
 from acl_env.gait.gaits import (
     DEFAULT_AMP_PITCH,
@@ -104,10 +104,10 @@ from acl_env.gait.gaits import (
 from acl_env.training import cli
 from acl_env.training.config import load_hyperparams, parse_kv_pairs
 
-DEFAULT_CONFIG = Path("train/configs/ppo.yml")
-DEFAULT_OUTPUT = Path("train/configs/tuned_gaits.yml")
+DEFAULT_CONFIG = shipped.recipe_path()
+DEFAULT_OUTPUT = Path("runs/tuned_gaits.json")
 DEFAULT_STORAGE = Path("runs/tune_gait.db")
-DEFAULT_PLOT = "docs/frontier_{key}.png"
+DEFAULT_PLOT = "runs/frontier_{key}.png"
 DEFAULT_SEEDS = (0, 1, 2)
 
 # Metrics a study can optimise, with their direction (names as in acl_env.evaluation).
@@ -171,24 +171,6 @@ DEFAULT_PARAMS: dict[str, float] = {
     "radial_freq": 2,
     "pitch": DEFAULT_PITCH,
 }
-HEADER = """\
-# Best open-loop ACL gaits found by the open-loop tuner (acl_env/training/tuning.py), one entry
-# per objective key ("acl": rolling ACL; "acl_noroll": rolls_per_cycle 0). Written by
-#   python train/tune_gait.py [--no-roll] --n-trials N       (or: acl-tune-gait ...)
-# and read by evaluation (the open_loop_tuned controller). Per entry:
-#   env_id, env_kwargs     gymnasium.make(env_id, **env_kwargs) plays the tuned gait with a zero
-#                          action (env_kwargs: squeeze in m, gait_kwargs for ACLGait)
-#   objective              the metric optimised, under reward_weights (the env's weights)
-#   seeds, steps_per_cycle, cycles_per_episode   each trial's episodes (reset seeds)
-#   condition              (only with --condition) env arguments every trial played under, such
-#                          as {friction: 0.5}; evaluation does not apply it: the gait is played
-#                          under the evaluation's own conditions
-#   trials, best_trial, study   finished trials of the Optuna study, the best one, its name
-#   metrics                the tuned gait's metrics (acl_env.evaluation), mean over the seeds
-#   validation             the same on new seeds (the best few trials were re-measured there and
-#                          the tuned gait is the best of them that neither fell nor rolled)
-#   default_gait_metrics, default_gait_validation   the untuned default gait, same protocol
-"""
 
 
 class UsageError(ValueError):
@@ -783,33 +765,14 @@ def _validation_entry(result: dict[str, Any], candidates: int | None = None) -> 
     return out
 
 
-class _Dumper(yaml.SafeDumper):
-    """Lists on one line (``seeds: [0, 1, 2]``), mappings in blocks."""
-
-
-_Dumper.add_representer(
-    list, lambda dumper, data: dumper.represent_sequence("tag:yaml.org,2002:seq", data, True)
-)
-
-
-def dump_yaml(document: dict[str, Any]) -> str:
-    """YAML text of plain values (see :func:`acl_env.evaluation.jsonable`), keys in order."""
-    return yaml.dump(jsonable(document), Dumper=_Dumper, sort_keys=False)
-
-
 def write_tuned_gaits(path: str | Path, key: str, entry: dict[str, Any]) -> None:
-    """Replace ``key`` in the YAML file (other entries kept), with the format's header comment."""
-    path = Path(path)
-    document = (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
-    document[key] = entry
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(HEADER + dump_yaml(document))
+    """Replace ``key`` in the tuned-gaits file at ``path`` (:func:`acl_env.tuned_gaits.write`)."""
+    tuned_gaits.write(path, key, entry)
 
 
 def read_tuned_gaits(path: str | Path = DEFAULT_OUTPUT) -> dict[str, dict[str, Any]]:
-    """The tuned gaits by key (the YAML document written by :func:`write_tuned_gaits`)."""
-    with open(path) as f:
-        return yaml.safe_load(f) or {}
+    """The tuned gaits by key (:func:`acl_env.tuned_gaits.read`)."""
+    return tuned_gaits.read(path)
 
 
 POINT_METRICS = ("energy_per_m", "climb_per_gait_cycle_m", "slip_per_m")

@@ -1,0 +1,34 @@
+"""What the package ships, reached through :mod:`importlib.resources`, wherever it is installed:
+the training recipe (``acl_env/data/ppo.yml``, rl-baselines3-zoo format), the tuned gaits
+(:mod:`acl_env.tuned_gaits`) and the pretrained policies (``acl_env/data/policies/<name>/``)."""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+RECIPE_FILE = "ppo.yml"
+POLICIES = ("acl_climb_ppo", "acl_climb_noroll_ppo")
+DEFAULT_POLICY = "acl_climb_ppo"
+
+
+def data_path(*parts: str) -> Path:
+    """A path inside the installed package's ``data`` folder."""
+    return Path(str(resources.files("acl_env").joinpath("data", *parts)))
+
+
+def recipe_path() -> Path:
+    """The shipped training recipe, ``ppo.yml`` (one entry per registered env id)."""
+    return data_path(RECIPE_FILE)
+
+
+def list_policies() -> list[str]:
+    """The names of the shipped pretrained policies."""
+    return list(POLICIES)
+
+
+def policy_dir(name: str = DEFAULT_POLICY) -> Path:
+    """The folder of the shipped policy ``name``; ``ValueError`` naming the shipped ones."""
+    if name not in POLICIES:
+        raise ValueError(f"no shipped policy {name!r} (shipped: {', '.join(POLICIES)})")
+    return data_path("policies", name)

@@ -1,4 +1,4 @@
-"""Pairing two evaluations' policies seed by seed (train/compare_evals.py)."""
+"""Pairing two evaluations' policies seed by seed (acl-compare)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ ENV = "acl_env/ACLClimbNoRoll-v3"
 
 
 def write_eval(path: Path, climbs: list[float], seeds: list[int], **env_kwargs: object) -> Path:
-    """A minimal evaluate.py JSON: a policy whose every paired metric is ``climbs``."""
+    """A minimal acl-evaluate record: a policy whose every paired metric is ``climbs``."""
     summary = {metric: {"values": list(climbs)} for metric in PAIRED_METRICS}
     summary["seeds"] = seeds
     document = {

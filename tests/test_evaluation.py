@@ -1,4 +1,5 @@
-"""The evaluation protocol (acl_env.evaluation) and its command line (train/evaluate.py)."""
+"""The evaluation package (acl_env.evaluation): protocol, baselines, records and the command line
+(acl-evaluate)."""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ import yaml
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, evaluation
 from acl_env.constants import POLE_GEOM, shell_name
-from acl_env.training import evaluate
+from acl_env.evaluation import baselines, records, runner
+from acl_env.evaluation import cli as evaluate_cli
 from acl_env.training.runs import CONFIG_FILE, MODEL_FILE, VECNORMALIZE_FILE
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -225,7 +227,7 @@ def test_open_loop_numbers_equal_a_zero_action_rollout(tmp_path: Path) -> None:
     env kwarg on the command line is a bool."""
     out = tmp_path / "eval.json"
     argv = ["--no-policy", "--episodes", "2", "--seed", "3", "--json", str(out), *QUIET]
-    evaluate.main([*argv, "--env-kwargs", *SHORT_ARGS, "domain_randomization:false"])
+    evaluate_cli.main([*argv, "--env-kwargs", *SHORT_ARGS, "domain_randomization:false"])
     document = json.loads(out.read_text())
     controllers = document["controllers"]
     assert {"open_loop_acl", "open_loop_rolling_helix"} <= set(controllers)
@@ -247,7 +249,7 @@ def test_open_loop_takes_the_gait_kwargs_given(tmp_path: Path) -> None:
     tuned = tmp_path / "tuned.yml"
     tuned.write_text(yaml.safe_dump({"acl": {"env_id": ACL_CLIMB_ID, "env_kwargs": {}}}))
     argv = ["--no-policy", "--episodes", "1", "--env-kwargs", *SHORT_ARGS, noroll, *QUIET]
-    document = evaluate.main([*argv, "--tuned-gaits", str(tuned)])
+    document = evaluate_cli.main([*argv, "--tuned-gaits", str(tuned)])
     assert document["env_kwargs"]["open_loop_acl"]["gait_kwargs"] == {"rolls_per_cycle": 0}
     assert "gait_kwargs" not in document["env_kwargs"]["open_loop_rolling_helix"]
     assert "open_loop_tuned" not in document["controllers"]
@@ -299,7 +301,7 @@ def test_evaluation_writes_every_metric_and_controller(policy_folder: Path, tmp_
     tuned = tuned_gaits_file(tmp_path / "tuned.yml", {"climb": 1.0, "slip": 2.0})
     argv = ["--policy", str(policy_folder), "--episodes", "2", "--json", str(out), *QUIET]
     plot = ["--plot", str(tmp_path / "eval.png")]
-    document = evaluate.main([*argv, "--tuned-gaits", str(tuned), *plot])
+    document = evaluate_cli.main([*argv, "--tuned-gaits", str(tuned), *plot])
     six = FIVE | {"open_loop_tuned_same_cadence"}
     assert json.loads(out.read_text())["controllers"].keys() == six
     assert (tmp_path / "eval.png").stat().st_size > 0
@@ -327,10 +329,10 @@ def test_the_shipped_policy_gets_every_metric_and_controller(tmp_path: Path) -> 
     """The default policy folder and tuned gaits file: every controller (the same-cadence one
     only for a policy that sets the cadence), every metric (fails until the shipped policy is
     trained on the current env id and the tuner has run)."""
-    from acl_env.training.evaluate import DEFAULT_POLICY
+    from acl_env.evaluation.baselines import DEFAULT_POLICY
     from acl_env.training.policy import read_policy_folder
 
-    document = evaluate.main(["--episodes", "2", "--env-kwargs", *SHORT_ARGS, *QUIET])
+    document = evaluate_cli.main(["--episodes", "2", "--env-kwargs", *SHORT_ARGS, *QUIET])
     sets_cadence = read_policy_folder(DEFAULT_POLICY).env_kwargs.get("phase_rate_range")
     expected = FIVE if sets_cadence else FIVE - {"open_loop_acl_same_cadence"}
     assert document["controllers"].keys() == expected, document["notes"]
@@ -413,7 +415,7 @@ def test_bad_arguments_are_refused_before_any_work(
     if "--policy" not in args and "--no-policy" not in args:
         args = ["--policy", str(policy_folder), *args]
     with pytest.raises(SystemExit) as exit_info:
-        evaluate.main(
+        evaluate_cli.main(
             [*args, "--episodes", "1", *QUIET] if "--episodes" not in args else [*args, *QUIET]
         )
     assert exit_info.value.code == 2
@@ -425,7 +427,7 @@ def test_bad_arguments_are_refused_before_any_work(
 def test_the_script_refuses_bad_input_with_status_2() -> None:
     """Through the command line a user types: one line on stderr, status 2, no traceback."""
     proc = subprocess.run(
-        [sys.executable, "train/evaluate.py", "--episodes", "0"],
+        [sys.executable, "-m", "acl_env.evaluation.cli", "--episodes", "0"],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -433,7 +435,7 @@ def test_the_script_refuses_bad_input_with_status_2() -> None:
     )
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
-        "evaluate.py: error: argument --episodes: expected an integer >= 1, got 0 (see --help)"
+        "acl-evaluate: error: argument --episodes: expected an integer >= 1, got 0 (see --help)"
     ]
 
 
@@ -463,7 +465,7 @@ def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits
     controller is the env's default gait (no gait_kwargs, squeeze or modulation), the rolling
     helix gets none of the ACL gait's shape, the tuned controller is the tuned gait, the
     same-cadence one the policy's own gait; the policy keeps all."""
-    from acl_env.training.evaluate import build_controllers
+    from acl_env.evaluation.baselines import build_controllers
     from acl_env.training.policy import PolicyFolder
 
     weights = {"climb": 1.0, "slip": 2.0}
@@ -501,7 +503,7 @@ def test_policy_setting_the_cadence_on_another_gait_meets_the_tuned_gait_at_its_
 ) -> None:
     """The best open loop at the same cadence: a cadence policy on a gait other than the tuned
     one is also judged against the tuned gait at the policy's rate, run after the policy."""
-    from acl_env.training.evaluate import TUNED_SAME_CADENCE, Controller, build_controllers
+    from acl_env.evaluation.baselines import TUNED_SAME_CADENCE, Controller, build_controllers
     from acl_env.training.policy import PolicyFolder
 
     weights = {"climb": 1.0, "slip": 2.0}
@@ -516,7 +518,7 @@ def test_policy_setting_the_cadence_on_another_gait_meets_the_tuned_gait_at_its_
     assert by_name["open_loop_acl_same_cadence"].env_kwargs["squeeze"] == 0.001
     # Run at the policy's mean rate (a stand-in policy: the open loop at 1.25 keyframes/step).
     stand_in = Controller("policy", ACL_CLIMB_ID, other, phase_rate=1.25)
-    results = evaluate.evaluate([stand_in, tuned_here], [0], workers=1, progress=False)
+    results = runner.evaluate([stand_in, tuned_here], [0], workers=1, progress=False)
     (policy,), (tuned_episode,) = results["policy"], results[TUNED_SAME_CADENCE]
     assert tuned_episode.keyframes / tuned_episode.steps == pytest.approx(
         policy.keyframes / policy.steps
@@ -540,7 +542,8 @@ def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
     the start and after every step of the longest episode."""
     import imageio
 
-    from acl_env.training.evaluate import Controller, record_video
+    from acl_env.evaluation.baselines import Controller
+    from acl_env.evaluation.figures import record_video
 
     small = {**SHORT, "width": 64, "height": 48}
     controllers = [
@@ -558,11 +561,11 @@ def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
 
 def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
     """Committed evaluation JSONs must not name the folder of the machine that wrote them."""
-    from acl_env.training.evaluate import DEFAULT_POLICY, DEFAULT_TUNED_GAITS, shown_path
+    from acl_env.evaluation.baselines import DEFAULT_POLICY, DEFAULT_TUNED_GAITS, shown_path
 
-    assert shown_path(DEFAULT_POLICY) == "train/policies/acl_climb_ppo"
-    _, note = evaluate.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
-    assert note.startswith("train/configs/tuned_gaits.yml: 'acl'"), note
+    assert shown_path(DEFAULT_POLICY) == "acl_env/data/policies/acl_climb_ppo"
+    _, note = baselines.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
+    assert note.startswith("acl_env/data/tuned_gaits.json: 'acl'"), note
     assert shown_path(tmp_path / "policy") == str(tmp_path / "policy")  # outside: as given
 
 
@@ -572,8 +575,8 @@ def test_a_malformed_tuned_gaits_file_is_refused_naming_it(tmp_path: Path, text:
     tool that reads it (evaluate, policy_robustness, noroll_arc)."""
     path = tmp_path / "tuned.yml"
     path.write_text(text)
-    with pytest.raises(evaluate.TunedGaitsError, match=r"tuned\.yml is not a tuned-gaits file"):
-        evaluate.tuned_gait(path, None, non_rolling=False)
+    with pytest.raises(baselines.TunedGaitsError, match=r"tuned\.yml: not a tuned-gaits file"):
+        baselines.tuned_gait(path, None, non_rolling=False)
 
 
 def _summary(seeds: list[int], **values: list[float]) -> dict[str, Any]:
@@ -608,3 +611,144 @@ def test_paired_differences_skip_undefined_pairs_and_refuse_other_seeds() -> Non
     summaries["gait"]["seeds"] = [1, 2, 3]
     with pytest.raises(ValueError, match="seeds"):
         evaluation.paired_differences(summaries, metrics=("slip_per_m",))
+
+
+# ---- the package: records, baselines, the old module ---------------------------------------------
+
+
+def _record() -> dict[str, Any]:
+    """A small record as acl-evaluate writes it: two controllers on seeds 0 and 1, NaN included."""
+    episodes = {
+        name: [
+            evaluation.Episode(seed=s, steps=20, keyframes=20.0, steps_per_cycle=20, dt=0.05)
+            for s in (0, 1)
+        ]
+        for name in ("policy", "open_loop_acl")
+    }
+    for k, e in enumerate(episodes["policy"]):
+        e.climb, e.slip = 0.01 * (k + 2), 0.001
+    summaries = {name: evaluation.summarize(eps) for name, eps in episodes.items()}
+    return records.make_record(
+        summaries,
+        env_ids={name: ACL_CLIMB_ID for name in summaries},
+        env_kwargs={name: {"friction": 0.5} for name in summaries},
+        policy="acl_env/data/policies/acl_climb_ppo",
+        notes=["a note"],
+    )
+
+
+def test_a_record_round_trips_through_its_file(tmp_path: Path) -> None:
+    """write_record then read_record: the same record, NaN as null (read back as NaN by the
+    accessors), the paired differences against the policy included."""
+    record = _record()
+    path = tmp_path / "eval.json"
+    records.write_record(path, record)
+    back = records.read_record(path)
+    assert back == json.loads(json.dumps(evaluation.jsonable(record)))
+    keys = ["controllers", "env_ids", "env_kwargs", "policy", "notes", "ci", "paired_vs_policy"]
+    assert list(back) == keys
+    assert records.controller_names(back) == ["policy", "open_loop_acl"]
+    climbs = records.metric_values(back, "policy", "climb_per_cycle_m")
+    assert climbs == pytest.approx([0.02, 0.03])
+    assert records.metric_mean(back, "policy", "climb_per_cycle_m") == pytest.approx(0.025)
+    assert math.isnan(records.metric_mean(back, "open_loop_acl", "slip_per_m"))  # null
+    assert math.isnan(records.metric_mean(back, "policy", "no_such_metric"))
+    assert records.controller_metric(back, "policy", "falls")["count"] == 0
+    assert records.controller_env(back, "open_loop_acl") == (ACL_CLIMB_ID, {"friction": 0.5})
+    paired = back["paired_vs_policy"]["open_loop_acl"]["climb_per_gait_cycle_m"]
+    assert paired["mean"] == pytest.approx(0.025) and paired["n"] == 2
+    with pytest.raises(ValueError, match=r"no controller 'open_loop_tuned' \(it has"):
+        records.controller_summary(back, "open_loop_tuned")
+    with pytest.raises(KeyError, match="policy has no no_such_metric"):
+        records.controller_metric(back, "policy", "no_such_metric")
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("{not json", "is not valid JSON"),
+        ("[1, 2]", "no 'controllers'"),
+        ('{"controllers": [1]}', "no 'controllers'"),
+        ('{"controllers": {"policy": 3}}', "controller 'policy' is not a summary"),
+        ('{"controllers": {"policy": {"falls": {"values": 1}}}}', "falls values are not a list"),
+        ('{"controllers": {}, "env_ids": [1]}', "'env_ids' is not a mapping"),
+        ('{"controllers": {}, "notes": "one"}', "'notes' is not a list"),
+        (None, "cannot read it"),
+    ],
+)
+def test_a_malformed_record_is_refused_naming_its_file(
+    tmp_path: Path, text: str | None, message: str
+) -> None:
+    path = tmp_path / "broken_eval.json"
+    if text is not None:
+        path.write_text(text)
+    with pytest.raises(ValueError, match=r"broken_eval\.json") as error:
+        records.read_record(path)
+    assert message in str(error.value)
+    with pytest.raises(ValueError, match="no 'controllers'"):  # nor is one written
+        records.write_record(tmp_path / "out.json", {"env_ids": {}})
+    assert not (tmp_path / "out.json").exists()
+
+
+def test_every_registered_task_has_its_baselines() -> None:
+    """Every env id the package registers has an entry in the baselines table, which agrees with
+    its registration (base gait, rolling) and names an entry of the shipped tuned gaits."""
+    from acl_env import tuned_gaits
+
+    ids = [env_id for env_id in gymnasium.registry if env_id.startswith("acl_env/")]
+    assert set(ids) == set(baselines.TASKS)
+    shipped_keys = set(tuned_gaits.read())
+    for env_id in ids:
+        task = baselines.TASKS[env_id]
+        registered = gymnasium.spec(env_id).kwargs
+        assert task.base_gait == registered["base_gait"], env_id
+        rolls = (registered.get("gait_kwargs") or {}).get("rolls_per_cycle", 1)
+        assert task.non_rolling == (rolls == 0), env_id
+        assert baselines.is_non_rolling(env_id, {}) == task.non_rolling
+        assert task.tuned_key in shipped_keys, env_id
+        assert baselines.default_tuned_key(env_id, task.non_rolling) == task.tuned_key
+    expected = {
+        "acl_env/ACLClimb-v1": "acl",
+        "acl_env/ACLClimbNoRoll-v3": "acl_noroll",
+        "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
+        "acl_env/RollingHelixClimb-v1": "acl",
+    }
+    assert {env_id: task.tuned_key for env_id, task in baselines.TASKS.items()} == expected
+    # A gait given on the command line that rolls otherwise than its task's: the default entries.
+    assert baselines.default_tuned_key(ACL_CLIMB_ID, non_rolling=True) == "acl_noroll"
+    assert baselines.default_tuned_key("acl_env/ACLClimbNoRoll-v2", non_rolling=False) == "acl"
+    assert baselines.default_tuned_key(None, non_rolling=True) == "acl_noroll"
+    noroll_gait = {"gait_kwargs": {"rolls_per_cycle": 0}}
+    assert baselines.is_non_rolling(ACL_CLIMB_ID, noroll_gait)
+    assert not baselines.is_non_rolling("acl_env/ACLClimbNoRoll-v3", {"gait_kwargs": None})
+
+
+def test_the_old_module_warns_and_re_exports() -> None:
+    """acl_env.training.evaluate still serves its names, the same objects, with a warning."""
+    import importlib
+    import sys as system
+
+    system.modules.pop("acl_env.training.evaluate", None)
+    with pytest.warns(DeprecationWarning, match="acl_env.evaluation"):
+        old = importlib.import_module("acl_env.training.evaluate")
+    assert old.build_controllers is baselines.build_controllers
+    assert old.run_controllers is runner.run_controllers and old.run is evaluate_cli.run
+    assert old.DEFAULT_POLICY == baselines.DEFAULT_POLICY
+    assert old.TUNED_KEYS_BY_ENV == {"acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2"}
+    for name in old.__all__:
+        assert hasattr(old, name), name
+
+
+def test_the_evaluation_package_imports_without_torch_yaml_or_sb3() -> None:
+    """Only loading a policy needs the train extra: the package and its command line import
+    without it."""
+    modules = ("torch", "stable_baselines3", "yaml")
+    code = (
+        "import sys\nimport acl_env.evaluation.cli, acl_env.evaluation.runner\n"
+        f"print([m for m in {modules!r} if m in sys.modules])"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"

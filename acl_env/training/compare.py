@@ -1,13 +1,13 @@
 """Pair one controller of two evaluations, seed by seed: is policy A better than policy B?
 
-``python train/compare_evals.py A.json B.json [--controller policy] [--labels A B] [--json OUT]``
+``acl-compare A.json B.json [--controller policy] [--labels A B] [--json OUT]``
 
-Each file is an ``evaluate.py --json`` output. Two evaluations run on the same reset seeds (the
-default: seeds 0..N-1) give each seed the same pole, skin and springs on both sides, so the
-difference per seed, A minus B, and its Student's t interval
-(:func:`acl_env.evaluation.paired_differences`) say whether two trained policies (or a policy
-and an ablation of it) differ, where their intervals side by side often overlap. Files run on
-other seeds, on another env or under other conditions (``CONDITIONS``: a held-out evaluation
+Each file is an ``acl-evaluate --json`` record, read by :func:`acl_env.evaluation.read_record`.
+Two evaluations run on the same reset seeds (the default: seeds 0..N-1) give each seed the same
+pole, skin and springs on both sides, so the difference per seed, A minus B, and its Student's t
+interval (:func:`acl_env.evaluation.paired_differences`) say whether two trained policies (or a
+policy and an ablation of it) differ, where their intervals side by side often overlap. Files run
+on other seeds, on another env or under other conditions (``CONDITIONS``: a held-out evaluation
 against a default one), or without the controller, are refused with a one-line error.
 """
 
@@ -17,10 +17,11 @@ from pathlib import Path
 from typing import Any
 
 from acl_env.evaluation import format_paired, paired_differences
+from acl_env.evaluation.records import controller_env, controller_summary, read_record
+from acl_env.io import write_json
 from acl_env.training import cli
-from acl_env.training.runs import read_json, write_json
 
-# Env kwargs that set the conditions an episode is played under (evaluate.py's --env-kwargs and
+# Env kwargs that set the conditions an episode is played under (acl-evaluate's --env-kwargs and
 # the held-out overrides), rather than the controller: both sides must agree on them.
 CONDITIONS = ("pole_radius", "friction", "kp", "domain_randomization")
 
@@ -29,19 +30,15 @@ def read_controller(path: Path, controller: str) -> tuple[dict[str, Any], dict[s
     """The summary of ``controller`` in the evaluation JSON at ``path``, and the env it was played
     on (``{"env_id", CONDITIONS...}``); ``ValueError`` naming the file when it is not an
     evaluation or lacks that controller."""
+    record = read_record(path)
     try:
-        data = read_json(path)
-    except OSError as err:
-        raise ValueError(f"{path}: cannot read it ({err.strerror})") from None
-    controllers = data.get("controllers") if isinstance(data, dict) else None
-    if not isinstance(controllers, dict):
-        raise ValueError(f"{path}: no 'controllers' (is it an evaluate.py --json output?)")
-    if controller not in controllers:
-        raise ValueError(f"{path}: no controller {controller!r} (it has {sorted(controllers)})")
-    env_kwargs = (data.get("env_kwargs") or {}).get(controller) or {}
-    env = {"env_id": (data.get("env_ids") or {}).get(controller)}
+        summary = controller_summary(record, controller)
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from None
+    env_id, env_kwargs = controller_env(record, controller)
+    env = {"env_id": env_id}
     env.update({key: env_kwargs.get(key) for key in CONDITIONS})
-    return controllers[controller], env
+    return summary, env
 
 
 def compare(
@@ -71,7 +68,7 @@ def compare(
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = cli.ArgumentParser(prog="compare_evals.py", description=__doc__.splitlines()[0])
+    parser = cli.ArgumentParser(prog="acl-compare", description=__doc__.splitlines()[0])
     parser.add_argument("first", type=Path, help="evaluation JSON of A")
     parser.add_argument("second", type=Path, help="evaluation JSON of B")
     parser.add_argument(

@@ -3,7 +3,7 @@
 Numpy and Gymnasium only, like Stable-Baselines3's ``common/evaluation.py``: a *policy* here is any
 callable from observation to action (a trained network is wrapped by
 :func:`acl_env.training.policy.load_policy`). One rollout function, :func:`run_episode`, serves
-``train/evaluate.py``, the benchmarks, ``python -m acl_env`` and the paper tables; it takes a
+``acl-evaluate``, the benchmarks, ``python -m acl_env`` and the paper tables; it takes a
 per-step hook for what a caller wants beyond the metrics (frames, joint angles, contacts).
 
 Per-episode metrics (the JSON names are an interface: other tools read them), with ``climb`` and
@@ -48,6 +48,7 @@ import gymnasium
 import numpy as np
 
 from acl_env.constants import POLE_GEOM, link_name, shell_name
+from acl_env.io import jsonable as jsonable  # re-exported: the one home is acl_env.io
 
 METRICS = (
     "climb_per_cycle_m",
@@ -459,16 +460,3 @@ def format_table(summaries: dict[str, dict[str, Any]], markdown: bool = False) -
         lines.append("  ".join(cells))
     lines.insert(1, "-" * len(lines[0]))
     return "\n".join([*lines, caption])
-
-
-def jsonable(value: Any) -> Any:
-    """Plain JSON: numpy values as Python numbers and lists, NaN and inf as null."""
-    if isinstance(value, dict):
-        return {str(k): jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple | np.ndarray):
-        return [jsonable(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -1,0 +1,88 @@
+"""Evaluation: the protocol (roll out, measure, summarise), the baselines each task is judged
+against, the records, running and the ``acl-evaluate`` command line.
+
+- :mod:`acl_env.evaluation.protocol`: :func:`run_episode`, the metrics (:data:`METRICS`), 95 %
+  intervals and tables; numpy and Gymnasium only. Its names are re-exported here, so that
+  ``from acl_env.evaluation import run_episode`` works as it always has;
+- :mod:`acl_env.evaluation.baselines`: the controllers and, per task, what it is judged against;
+- :mod:`acl_env.evaluation.records`: the one reader and writer of ``acl-evaluate --json`` records;
+- :mod:`acl_env.evaluation.runner`: running controllers in worker processes;
+- :mod:`acl_env.evaluation.figures` and :mod:`acl_env.evaluation.cli`: plots, videos, the command.
+
+Nothing here imports PyTorch, Stable-Baselines3 or PyYAML at import time: a policy folder is
+loaded (:mod:`acl_env.training.policy`) only when a controller plays one.
+"""
+
+from acl_env.evaluation.protocol import (
+    ARC_BINS,
+    CI_NOTE,
+    METRICS,
+    PAIRED_METRICS,
+    TABLE_ROWS,
+    Episode,
+    PoleContacts,
+    Policy,
+    StepCallback,
+    action_recorder,
+    arc_bins,
+    cadence_action,
+    constant_cadence_policy,
+    covering_arc_deg,
+    format_paired,
+    format_table,
+    jsonable,
+    mean_ci95,
+    paired_differences,
+    run_episode,
+    steps_per_cycle,
+    student_t_quantile,
+    summarize,
+    zero_policy,
+)
+from acl_env.evaluation.records import (
+    controller_env,
+    controller_metric,
+    controller_names,
+    controller_summary,
+    make_record,
+    metric_mean,
+    metric_values,
+    read_record,
+    write_record,
+)
+
+__all__ = [
+    "ARC_BINS",
+    "CI_NOTE",
+    "METRICS",
+    "PAIRED_METRICS",
+    "TABLE_ROWS",
+    "Episode",
+    "PoleContacts",
+    "Policy",
+    "StepCallback",
+    "action_recorder",
+    "arc_bins",
+    "cadence_action",
+    "constant_cadence_policy",
+    "controller_env",
+    "controller_metric",
+    "controller_names",
+    "controller_summary",
+    "covering_arc_deg",
+    "format_paired",
+    "format_table",
+    "jsonable",
+    "make_record",
+    "mean_ci95",
+    "metric_mean",
+    "metric_values",
+    "paired_differences",
+    "read_record",
+    "run_episode",
+    "steps_per_cycle",
+    "student_t_quantile",
+    "summarize",
+    "write_record",
+    "zero_policy",
+]

@@ -1,0 +1,214 @@
+"""``acl-evaluate``: judge a trained policy against the open-loop gaits on the same seeds.
+
+The controllers are those of :mod:`acl_env.evaluation.baselines`, run by
+:mod:`acl_env.evaluation.runner`; the metrics are those of :mod:`acl_env.evaluation`, reported as
+mean and Student-t 95 % interval over the episodes; ``--json`` writes the record of
+:mod:`acl_env.evaluation.records`. ``python -m acl_env.evaluation.cli`` runs it too.
+"""
+
+from __future__ import annotations
+
+import os
+
+# --video renders offscreen; MuJoCo picks its GL backend when first imported, so say it now.
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import argparse
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from acl_env.evaluation.baselines import (
+    DEFAULT_POLICY,
+    DEFAULT_TUNED_GAITS,
+    SAME_CADENCE,
+    Controller,
+    TunedGaitsError,
+    build_controllers,
+    shown_path,
+)
+from acl_env.evaluation.figures import plot_heights, record_video
+from acl_env.evaluation.protocol import format_paired, format_table, summarize
+from acl_env.evaluation.records import REFERENCE, make_record, write_record
+from acl_env.evaluation.runner import evaluate
+from acl_env.training import cli
+
+
+def make_parser() -> cli.ArgumentParser:
+    """The command line of ``acl-evaluate``."""
+    parser = cli.ArgumentParser(
+        prog="acl-evaluate",
+        description="Evaluate a trained policy against the open-loop gaits, on the same seeds.",
+    )
+    which = parser.add_mutually_exclusive_group()
+    which.add_argument(
+        "--policy", type=cli.existing_dir, default=DEFAULT_POLICY, help="run or policy folder"
+    )
+    which.add_argument("--no-policy", action="store_true", help="open-loop controllers only")
+    parser.add_argument("--episodes", type=cli.int_at_least(1), default=20)
+    parser.add_argument(
+        "--seed", type=cli.int_at_least(0), default=0, help="episode i resets with seed + i"
+    )
+    parser.add_argument(
+        "--env-kwargs", type=cli.key_value, nargs="*", default=[], metavar="KEY:VALUE"
+    )
+    parser.add_argument(
+        "--reward-weights",
+        type=cli.key_value,
+        nargs="*",
+        metavar="TERM:WEIGHT",
+        help="reward weights of every controller's env (default: the policy's training ones)",
+    )
+    parser.add_argument(
+        "--tuned-gaits",
+        type=Path,
+        default=DEFAULT_TUNED_GAITS,
+        help="tuned open-loop gaits (default: the shipped ones; acl-tune-gait writes others)",
+    )
+    parser.add_argument(
+        "--tuned-key",
+        help="entry of --tuned-gaits to play as open_loop_tuned (default: the policy's task's, "
+        "acl_env.evaluation.baselines.TASKS)",
+    )
+    parser.add_argument("--json", type=cli.output_file(), help="write the record here")
+    parser.add_argument(
+        "--plot",
+        type=cli.output_file(".png", ".pdf", ".svg"),
+        help="COM height against time (png, pdf or svg)",
+    )
+    parser.add_argument(
+        "--video",
+        type=cli.output_file(".mp4", ".gif"),
+        help="mp4 or gif of the first episode of the policy (of open-loop ACL with --no-policy)",
+    )
+    parser.add_argument(
+        "--video-beside",
+        nargs="+",
+        default=[],
+        metavar="CONTROLLER",
+        help="controllers shown beside it in the video, same seed (e.g. open_loop_tuned)",
+    )
+    parser.add_argument(
+        "--video-speedup",
+        type=cli.positive_float,
+        default=1.0,
+        help="video speed, times real time (default 1)",
+    )
+    parser.add_argument(
+        "--workers", type=cli.int_at_least(1), default=2, help="processes running episodes"
+    )
+    parser.add_argument(
+        "--gym-packages",
+        type=cli.importable_module,
+        nargs="*",
+        default=[],
+        help="modules registering envs",
+    )
+    parser.add_argument(
+        "--markdown", action="store_true", help="print the table in Markdown (for the README)"
+    )
+    parser.add_argument("--no-progress-bar", action="store_true")
+    return parser
+
+
+def _checked_controllers(
+    parser: cli.ArgumentParser, args: argparse.Namespace
+) -> tuple[list[Controller], list[str]]:
+    """Controllers built and each env and policy made once, so that every bad argument is refused
+    (one line, exit status 2) before any episode runs."""
+    # The policy folder's reader and the env checks need SB3 and PyYAML: imported when used.
+    from acl_env.envs.rewards import check_reward_weights
+    from acl_env.training.checks import check_env_kwargs
+    from acl_env.training.policy import SpaceMismatchError, read_policy_folder
+
+    try:
+        overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+        weights = None
+        if args.reward_weights is not None:
+            weights = cli.pairs_to_dict("--reward-weights", args.reward_weights)
+    except argparse.ArgumentTypeError as error:
+        parser.error(str(error))
+    folder = None
+    if not args.no_policy:
+        try:
+            folder = read_policy_folder(args.policy)
+        except ValueError as error:
+            parser.error(f"argument --policy: {error}")
+    try:
+        controllers, notes = build_controllers(
+            folder, overrides, weights, args.tuned_gaits, args.tuned_key
+        )
+    except TunedGaitsError as error:
+        parser.error(f"argument --tuned-gaits: {error}")
+    if args.tuned_key is not None and not any(c.name == "open_loop_tuned" for c in controllers):
+        skipped = [note for note in notes if note.startswith("open_loop_tuned: skipped")]
+        parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
+    if weights is not None:
+        try:
+            check_reward_weights(weights)
+        except (ValueError, TypeError) as error:
+            parser.error(f"argument --reward-weights: {error}")
+    for controller in controllers:
+        try:
+            env = check_env_kwargs(controller.env_id, controller.env_kwargs)
+        except ValueError as error:
+            parser.error(f"argument --env-kwargs: {controller.name}: {error}")
+        try:
+            controller.make_policy(env)
+        except SpaceMismatchError as error:
+            parser.error(f"argument --env-kwargs: {error}")
+        except ValueError as error:
+            parser.error(f"argument --policy: {error}")
+        finally:
+            env.close()
+    names = [c.name for c in controllers]
+    unknown = [name for name in args.video_beside if name not in names]
+    if unknown:
+        parser.error(f"argument --video-beside: unknown controllers {unknown}; these run: {names}")
+    if args.video_beside and not args.video:
+        parser.error("argument --video-beside: needs --video")
+    return controllers, notes
+
+
+def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
+    """Evaluate, print the table, write the optional outputs; return the record."""
+    parser = make_parser()
+    args = parser.parse_args(argv)
+    controllers, notes = _checked_controllers(parser, args)
+    seeds = [args.seed + i for i in range(args.episodes)]
+    results = evaluate(
+        controllers, seeds, args.workers, args.gym_packages, not args.no_progress_bar
+    )
+    summaries = {name: summarize(episodes) for name, episodes in results.items()}
+    by_name = {c.name: c for c in controllers}
+    document = make_record(
+        summaries,
+        env_ids={name: by_name[name].env_id for name in results},
+        env_kwargs={name: by_name[name].env_kwargs for name in results},
+        policy=None if args.no_policy else shown_path(args.policy),
+        notes=notes,
+        # present whenever a same-cadence open loop is
+        same_cadence_phase_rate=(
+            summaries[REFERENCE]["mean_phase_rate"] if SAME_CADENCE in results else None
+        ),
+    )
+    print(format_table(summaries, markdown=args.markdown))
+    if "paired_vs_policy" in document:
+        print(format_paired(document["paired_vs_policy"], REFERENCE))
+    for note in notes:
+        print(note)
+    if args.json:
+        write_record(args.json, document)
+    if args.plot:
+        plot_heights(results, args.plot)
+    if args.video:
+        shown = [controllers[0], *(by_name[name] for name in args.video_beside)]
+        record_video(shown, seeds[0], args.video, args.video_speedup)
+    return document
+
+
+# The console script (pyproject.toml): main() without its returned document.
+run = cli.script(main)
+
+if __name__ == "__main__":
+    run()

@@ -1,0 +1,35 @@
+"""Replays of the shipped ACL policy's published evaluation (``docs/eval.json``, made by
+``benchmarks/regenerate.py --only eval``). A physics change fails here; regenerate the records
+with that one command (the non-rolling replays are in tests/test_noroll.py)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from acl_env import shipped
+from acl_env.evaluation import baselines, records, run_episode
+
+RECORD = Path(__file__).resolve().parents[1] / "docs" / "eval.json"
+METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")
+
+
+@pytest.mark.replay
+@pytest.mark.parametrize("name", ["policy", "open_loop_acl", "open_loop_tuned"])
+def test_shipped_acl_policy_replays_its_published_evaluation(name: str) -> None:
+    """Each controller of the README's ACL table, replayed on the record's first seed, measures
+    what the record says (exactly where it was recorded; 0.1 % leaves room for another CPU's
+    rounding), on the controllers evaluation builds today from the shipped files."""
+    from acl_env.training.policy import read_policy_folder
+
+    record = records.read_record(RECORD)
+    folder = read_policy_folder(shipped.policy_dir())
+    controllers, _ = baselines.build_controllers(folder, {}, None, baselines.DEFAULT_TUNED_GAITS)
+    controller = {c.name: c for c in controllers}[name]
+    recorded = records.controller_summary(record, name)
+    env = controller.make_env()
+    metrics = run_episode(env, controller.make_policy(env), recorded["seeds"][0]).metrics()
+    for metric in METRICS:
+        expected = recorded[metric]["values"][0]
+        assert metrics[metric] == pytest.approx(expected, rel=1e-3), (name, metric)

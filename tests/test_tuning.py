@@ -1,5 +1,6 @@
-"""The open-loop tuner (acl_env.training.tuning, train/tune_gait.py): shared studies, resuming,
-disqualification, the tuned-gaits file, and one-line errors for bad input."""
+"""The open-loop tuner (acl_env.tuning, acl-tune-gait): shared studies, resuming,
+disqualification, the tuned-gaits file, its default outputs under runs/, and one-line errors for
+bad input."""
 
 from __future__ import annotations
 
@@ -18,11 +19,18 @@ import gymnasium
 import numpy as np
 import optuna
 import pytest
-import yaml
 
-from acl_env import ACL_CLIMB_ID
-from acl_env.evaluation import jsonable, run_episode, zero_policy
-from acl_env.training import config, tuning
+from acl_env import ACL_CLIMB_ID, shipped, tuned_gaits
+from acl_env.evaluation import run_episode, zero_policy
+from acl_env.io import jsonable
+from acl_env.training import config
+from acl_env.tuning import objective
+from acl_env.tuning.cli import main
+from acl_env.tuning.frontier import pareto_front, policy_point
+from acl_env.tuning.objective import OBJECTIVES, TuneSettings
+from acl_env.tuning.space import DEFAULT_PARAMS, SEARCH_SPACE, ParamRange, UsageError
+from acl_env.tuning.study import FINISHED, open_storage
+from acl_env.tuning.validation import tuned_entry, validate
 
 ROOT = Path(__file__).resolve().parents[1]
 # 20-step cycles, one cycle per episode: a trial takes a fraction of a second.
@@ -37,7 +45,7 @@ def tiny_args(tmp_path: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> l
         "--storage",
         str(tmp_path / "study.db"),
         "--output",
-        str(tmp_path / "tuned.yml"),
+        str(tmp_path / "tuned.json"),
         "--plot",
         str(tmp_path / "frontier_{key}.png"),
         "--sampler-seed",
@@ -47,16 +55,14 @@ def tiny_args(tmp_path: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> l
 
 
 def load(tmp_path: Path, name: str = "acl") -> optuna.Study:
-    return optuna.load_study(
-        study_name=name, storage=tuning.open_storage(str(tmp_path / "study.db"))
-    )
+    return optuna.load_study(study_name=name, storage=open_storage(str(tmp_path / "study.db")))
 
 
 def _open_after(barrier: Any, path: str) -> str:
     barrier.wait()
     try:
-        tuning.open_storage(path)
-    except tuning.UsageError as exc:
+        open_storage(path)
+    except UsageError as exc:
         return str(exc)
     return "ok"
 
@@ -73,19 +79,19 @@ def test_processes_opening_one_new_database_at_once_all_succeed(tmp_path: Path) 
 
 
 def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) -> None:
-    entry = tuning.main(tiny_args(tmp_path, "--n-trials", "8", "--n-jobs", "2"))
+    entry = main(tiny_args(tmp_path, "--n-trials", "8", "--n-jobs", "2"))
     study = load(tmp_path)
-    finished = study.get_trials(states=tuning.FINISHED)
+    finished = study.get_trials(states=FINISHED)
     assert len(finished) == 8
     # Trial 0, the untuned gait, runs in this process; both worker processes ran the others.
     assert finished[0].user_attrs["default_gait"]
-    assert finished[0].params == tuning.DEFAULT_PARAMS
+    assert finished[0].params == DEFAULT_PARAMS
     assert finished[0].user_attrs["worker"].endswith(f":{os.getpid()}")
     workers = {t.user_attrs["worker"] for t in finished[1:]}
     assert len(workers) == 2 and finished[0].user_attrs["worker"] not in workers
 
-    document = yaml.safe_load((tmp_path / "tuned.yml").read_text())
-    assert (tmp_path / "tuned.yml").read_text().startswith(tuning.HEADER)
+    document = tuned_gaits.read(tmp_path / "tuned.json")
+    assert json.loads((tmp_path / "tuned.json").read_text()) == document  # plain JSON
     saved = document["acl"]
     assert saved == jsonable(entry)
     assert saved["env_id"] == ACL_CLIMB_ID
@@ -104,10 +110,10 @@ def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) ->
                 validation["metrics"]["reward_per_gait_cycle"]
                 >= (other["metrics"]["reward_per_gait_cycle"])
             )
-    recipe = config.load_hyperparams(ROOT / "train" / "configs" / "ppo.yml", ACL_CLIMB_ID)
+    recipe = config.load_hyperparams(shipped.recipe_path(), ACL_CLIMB_ID)
     assert saved["reward_weights"] == recipe["env_kwargs"]["reward_weights"]  # the env's recipe
     assert saved["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 1
-    assert set(saved["env_kwargs"]["gait_kwargs"]) == {*tuning.SEARCH_SPACE, "rolls_per_cycle"} - {
+    assert set(saved["env_kwargs"]["gait_kwargs"]) == {*SEARCH_SPACE, "rolls_per_cycle"} - {
         "squeeze"
     }
     chosen = study.trials[saved["best_trial"]]
@@ -131,16 +137,16 @@ def test_two_workers_share_one_study_and_write_the_tuned_gait(tmp_path: Path) ->
 def test_rerun_resumes_the_study_and_other_settings_are_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    tuning.main(tiny_args(tmp_path, "--n-trials", "3"))
-    tuning.main(tiny_args(tmp_path, "--n-trials", "5"))  # two more, not five
-    assert len(load(tmp_path).get_trials(states=tuning.FINISHED)) == 5
+    main(tiny_args(tmp_path, "--n-trials", "3"))
+    main(tiny_args(tmp_path, "--n-trials", "5"))  # two more, not five
+    assert len(load(tmp_path).get_trials(states=FINISHED)) == 5
     # Nothing left to run: the outputs are rewritten, here with a policy's point on the figure.
     evaluation = {"controllers": {"policy": {"energy_per_m": {"mean": 900.0}}}}
     evaluation["controllers"]["policy"]["climb_per_gait_cycle_m"] = {"mean": 0.21}
     (tmp_path / "eval.json").write_text(json.dumps(evaluation))
     (tmp_path / "frontier_acl.png").unlink()
     point = str(tmp_path / "eval.json")
-    tuning.main(
+    main(
         tiny_args(
             tmp_path,
             "--n-trials",
@@ -155,7 +161,7 @@ def test_rerun_resumes_the_study_and_other_settings_are_refused(
     assert (tmp_path / "frontier_acl.png").is_file()
     capsys.readouterr()
     with pytest.raises(SystemExit) as exc:
-        tuning.main(tiny_args(tmp_path, "--n-trials", "6", "--reward-weights", "climb:1"))
+        main(tiny_args(tmp_path, "--n-trials", "6", "--reward-weights", "climb:1"))
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert "--study-name" in err and "reward_weights" in err
@@ -169,15 +175,15 @@ def test_a_study_resumes_on_the_env_it_was_run_on(
     naming v2; the tuned entry records the env it was tuned on."""
     v3 = ["--no-roll", "--validate-seeds", "0", "--reward-weights", "climb:1", "roll:0.05"]
     v2 = [*v3, "--env", "acl_env/ACLClimbNoRoll-v2"]
-    tuning.main(tiny_args(tmp_path, "--n-trials", "1", *v2))
+    main(tiny_args(tmp_path, "--n-trials", "1", *v2))
     capsys.readouterr()
     with pytest.raises(SystemExit) as exc:
-        tuning.main(tiny_args(tmp_path, "--n-trials", "2", *v3))
+        main(tiny_args(tmp_path, "--n-trials", "2", *v3))
     err = capsys.readouterr().err
     assert exc.value.code == 2 and "--study-name" in err and "env_id" in err
-    tuning.main(tiny_args(tmp_path, "--n-trials", "2", *v2))
-    assert len(load(tmp_path, "acl_noroll").get_trials(states=tuning.FINISHED)) == 2
-    entry = tuning.read_tuned_gaits(tmp_path / "tuned.yml")["acl_noroll"]
+    main(tiny_args(tmp_path, "--n-trials", "2", *v2))
+    assert len(load(tmp_path, "acl_noroll").get_trials(states=FINISHED)) == 2
+    entry = tuned_gaits.read(tmp_path / "tuned.json")["acl_noroll"]
     assert entry["env_id"] == "acl_env/ACLClimbNoRoll-v2"
 
 
@@ -185,18 +191,18 @@ def test_policy_point_reads_energy_climb_and_slip(tmp_path: Path) -> None:
     summary = {"energy_per_m": {"mean": 700.0}, "climb_per_gait_cycle_m": {"mean": 0.2}}
     path = tmp_path / "eval.json"
     path.write_text(json.dumps({"controllers": {"policy": summary}}))
-    point = tuning.policy_point(path)
+    point = policy_point(path)
     assert point["energy_per_m"] == 700.0 and point["climb_per_gait_cycle_m"] == 0.2
     assert math.isnan(point["slip_per_m"])  # older JSONs: drawn on the climb panel only
     summary["slip_per_m"] = {"mean": 0.16}
     path.write_text(json.dumps({"controllers": {"tuned": summary}}))
-    assert tuning.policy_point(path, "tuned")["slip_per_m"] == 0.16
+    assert policy_point(path, "tuned")["slip_per_m"] == 0.16
 
 
 def test_pareto_front_of_a_metric_where_less_is_better() -> None:
     # Slip: the 900 J/m point slips least; the 700 J/m one is beaten by 600 J/m on both.
     slip = np.array([[700.0, 0.20], [600.0, 0.18], [900.0, 0.15], [1000.0, 0.25]])
-    assert tuning.pareto_front(slip, maximize=False).tolist() == [[600.0, 0.18], [900.0, 0.15]]
+    assert pareto_front(slip, maximize=False).tolist() == [[600.0, 0.18], [900.0, 0.15]]
 
 
 def test_a_gait_that_falls_is_disqualified(
@@ -205,7 +211,7 @@ def test_a_gait_that_falls_is_disqualified(
     # A helix 3 cm looser than the pole's contact radius never grips.
     args = tiny_args(tmp_path, "--n-trials", "2", "--no-roll", "--space", "squeeze:-0.03:-0.03")
     with pytest.raises(SystemExit) as exc:
-        tuning.main(args)
+        main(args)
     assert exc.value.code == 1
     assert "no qualified trial" in capsys.readouterr().err
     trials = load(tmp_path, "acl_noroll").trials
@@ -215,13 +221,13 @@ def test_a_gait_that_falls_is_disqualified(
         assert trial.user_attrs["disqualified"] == "fell"
         assert trial.user_attrs["falls"] == 1.0
         assert trial.params["squeeze"] == -0.03
-    assert not (tmp_path / "tuned.yml").exists()
+    assert not (tmp_path / "tuned.json").exists()
 
 
 def test_a_saturated_gait_is_disqualified_without_a_rollout(tmp_path: Path) -> None:
     space = ["amp_pitch:0.05:0.05", "spatial_freq:3:3", "amp_radial:0.025:0.025"]
     with pytest.raises(SystemExit):
-        tuning.main(tiny_args(tmp_path, "--n-trials", "1", "--space", *space))
+        main(tiny_args(tmp_path, "--n-trials", "1", "--space", *space))
     (trial,) = load(tmp_path).trials
     assert trial.user_attrs["disqualified"] == "saturated"
     assert trial.user_attrs["clipped_fraction"] > 0.1
@@ -258,7 +264,7 @@ def test_bad_input_is_one_line_naming_the_argument(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], argument: str
 ) -> None:
     with pytest.raises(SystemExit) as exc:
-        tuning.main(tiny_args(tmp_path, *extra))
+        main(tiny_args(tmp_path, *extra))
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert err.count("\n") == 1 and argument in err, err
@@ -277,16 +283,16 @@ def test_unreadable_storage_is_refused(
     args = tiny_args(tmp_path)
     args[args.index("--storage") + 1] = "nosuchdriver://x/y" if kind == "bad url" else str(storage)
     with pytest.raises(SystemExit) as exc:
-        tuning.main(args)
+        main(args)
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert err.count("\n") == 1 and "--storage" in err, err
-    assert not (tmp_path / "tuned.yml").exists()
+    assert not (tmp_path / "tuned.json").exists()
 
 
 def test_command_line_error_from_the_script(tmp_path: Path) -> None:
     proc = subprocess.run(
-        [sys.executable, "train/tune_gait.py", *tiny_args(tmp_path, "--objective", "speed")],
+        [sys.executable, "-m", "acl_env.tuning", *tiny_args(tmp_path, "--objective", "speed")],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -295,32 +301,32 @@ def test_command_line_error_from_the_script(tmp_path: Path) -> None:
     assert proc.returncode == 2
     assert proc.stderr.splitlines() == [
         "acl-tune-gait: error: argument --objective: unknown 'speed'; known: "
-        f"{list(tuning.OBJECTIVES)} (see --help)"
+        f"{list(OBJECTIVES)} (see --help)"
     ]
 
 
 def test_pareto_front_keeps_the_undominated_points() -> None:
     points = np.array([[500.0, 0.18], [400.0, 0.15], [700.0, 0.22], [600.0, 0.17], [900, 0.21]])
-    front = tuning.pareto_front(points)
+    front = pareto_front(points)
     assert front.tolist() == [[400.0, 0.15], [500.0, 0.18], [700.0, 0.22]]
 
 
 def test_env_kwargs_split_squeeze_from_the_gait() -> None:
-    settings = tuning.TuneSettings(rolls_per_cycle=0)
-    kwargs = settings.env_kwargs(tuning.DEFAULT_PARAMS)
-    assert kwargs["squeeze"] == tuning.DEFAULT_PARAMS["squeeze"]
+    settings = TuneSettings(rolls_per_cycle=0)
+    kwargs = settings.env_kwargs(DEFAULT_PARAMS)
+    assert kwargs["squeeze"] == DEFAULT_PARAMS["squeeze"]
     assert kwargs["gait_kwargs"]["rolls_per_cycle"] == 0
     assert "squeeze" not in kwargs["gait_kwargs"]
     env = gymnasium.make(ACL_CLIMB_ID, **kwargs)  # the env accepts them as they are
-    assert math.isclose(env.unwrapped.gait.curve.amp_pitch, tuning.DEFAULT_PARAMS["amp_pitch"])
+    assert math.isclose(env.unwrapped.gait.curve.amp_pitch, DEFAULT_PARAMS["amp_pitch"])
     env.close()
 
 
 def test_a_gait_that_rolls_is_disqualified_by_max_arc(tmp_path: Path) -> None:
     # The default rolling gait touches the pole all round some module (issue 9: 360 deg).
-    space = [f"{name}:{value}:{value}" for name, value in tuning.DEFAULT_PARAMS.items()]
+    space = [f"{name}:{value}:{value}" for name, value in DEFAULT_PARAMS.items()]
     with pytest.raises(SystemExit):
-        tuning.main(tiny_args(tmp_path, "--n-trials", "1", "--max-arc", "90", "--space", *space))
+        main(tiny_args(tmp_path, "--n-trials", "1", "--max-arc", "90", "--space", *space))
     (trial,) = load(tmp_path).trials
     assert trial.user_attrs["disqualified"] == "touched arc"
     assert trial.user_attrs["max_touched_arc_deg"] > 90.0
@@ -330,8 +336,8 @@ def test_validation_passes_over_a_lucky_gait_that_falls_on_new_seeds(tmp_path: P
     # Two finished trials: a loose helix that never grips, recorded with a better value than it
     # could have (as luck on a few seeds might), and the default gait. Validation must pick the
     # default gait, since the other falls on the new seeds.
-    space = {**tuning.SEARCH_SPACE, "squeeze": tuning.ParamRange(-0.04, 0.016)}
-    settings = tuning.TuneSettings(
+    space = {**SEARCH_SPACE, "squeeze": ParamRange(-0.04, 0.016)}
+    settings = TuneSettings(
         reward_weights={"climb": 1.0, "slip": 2.0},
         seeds=(0,),
         steps_per_cycle=20,
@@ -345,22 +351,22 @@ def test_validation_passes_over_a_lucky_gait_that_falls_on_new_seeds(tmp_path: P
         else optuna.distributions.FloatDistribution(r.low, r.high)
         for name, r in space.items()
     }
-    loose = {**tuning.DEFAULT_PARAMS, "squeeze": -0.03}
-    for params, value in ((loose, 1.0), (tuning.DEFAULT_PARAMS, 0.01)):
+    loose = {**DEFAULT_PARAMS, "squeeze": -0.03}
+    for params, value in ((loose, 1.0), (DEFAULT_PARAMS, 0.01)):
         study.add_trial(
             optuna.trial.create_trial(
                 params=params,
                 distributions=distributions,
                 value=value,
-                user_attrs={"default_gait": params is tuning.DEFAULT_PARAMS},
+                user_attrs={"default_gait": params is DEFAULT_PARAMS},
             )
         )
-    chosen, results = tuning.validate(study, settings, top_k=2, n_seeds=3)
+    chosen, results = validate(study, settings, top_k=2, n_seeds=3)
     assert chosen.number == 1
     assert results[0]["fell"] and not results[1]["fell"]
     assert results[1]["seeds"] == [1, 2, 3]
-    entry = tuning.tuned_entry(study, settings, chosen, results)
-    assert entry["env_kwargs"]["squeeze"] == tuning.DEFAULT_PARAMS["squeeze"]
+    entry = tuned_entry(study, settings, chosen, results)
+    assert entry["env_kwargs"]["squeeze"] == DEFAULT_PARAMS["squeeze"]
     assert entry["validation"]["candidates"] == 2
     # The chosen gait is the default one: both validation records are the same measurement.
     assert entry["default_gait_validation"]["metrics"] == entry["validation"]["metrics"]
@@ -372,7 +378,7 @@ def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path, n_jobs: 
     interrupted ones are failed, so a rerun redoes them at once), nothing written."""
     args = tiny_args(tmp_path, "--n-trials", "1000", "--n-jobs", n_jobs)
     proc = subprocess.Popen(
-        [sys.executable, "train/tune_gait.py", *args],
+        [sys.executable, "-m", "acl_env.tuning", *args],
         cwd=ROOT,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -384,7 +390,7 @@ def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path, n_jobs: 
             time.sleep(0.5)
             if (tmp_path / "study.db").exists():
                 try:
-                    if len(load(tmp_path).get_trials(states=tuning.FINISHED)) >= 2:
+                    if len(load(tmp_path).get_trials(states=FINISHED)) >= 2:
                         break
                 except KeyError:  # the study is being created
                     pass
@@ -394,25 +400,25 @@ def test_sigterm_stops_the_study_and_a_rerun_resumes_it(tmp_path: Path, n_jobs: 
         proc.kill()
     assert proc.returncode == 130, err
     assert "interrupted" in err.splitlines()[-1] and "resume" in err.splitlines()[-1]
-    assert not (tmp_path / "tuned.yml").exists()  # nothing written on an interrupt
+    assert not (tmp_path / "tuned.json").exists()  # nothing written on an interrupt
     assert not load(tmp_path).get_trials(states=(optuna.trial.TrialState.RUNNING,))
-    finished = len(load(tmp_path).get_trials(states=tuning.FINISHED))
+    finished = len(load(tmp_path).get_trials(states=FINISHED))
     assert 2 <= finished < 1000
     args[args.index("1000")] = str(finished + 1)
-    tuning.main(args)  # resumes: one more trial, then the outputs
-    assert len(load(tmp_path).get_trials(states=tuning.FINISHED)) == finished + 1
-    assert (tmp_path / "tuned.yml").is_file()
+    main(args)  # resumes: one more trial, then the outputs
+    assert len(load(tmp_path).get_trials(states=FINISHED)) == finished + 1
+    assert (tmp_path / "tuned.json").is_file()
 
 
 def test_also_plot_names_an_existing_study(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     with pytest.raises(SystemExit) as exc:
-        tuning.main(tiny_args(tmp_path, "--n-trials", "2", "--also-plot", "nosuch"))
+        main(tiny_args(tmp_path, "--n-trials", "2", "--also-plot", "nosuch"))
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert err.count("\n") == 1 and "--also-plot" in err and "nosuch" in err
-    assert load(tmp_path).get_trials(states=tuning.FINISHED) == []  # refused before any trial
+    assert load(tmp_path).get_trials(states=FINISHED) == []  # refused before any trial
 
 
 def tune_recording(
@@ -420,15 +426,15 @@ def tune_recording(
 ) -> tuple[dict[str, Any] | None, list[tuple[float, ...]]]:
     """Run a tiny study; return its entry and, per rollout, the env's ``attrs`` it played."""
     seen: list[tuple[float, ...]] = []
-    real_rollout = tuning.rollout
+    real_rollout = objective.rollout
 
     def spy(env: gymnasium.Env, seeds: Any) -> list[dict[str, float]]:
         seen.append(tuple(getattr(env.unwrapped, a) for a in attrs))
         return real_rollout(env, seeds)
 
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(tuning, "rollout", spy)
-        entry = tuning.main(tiny_args(tmp_path, "--n-trials", n_trials, *extra))
+        patch.setattr(objective, "rollout", spy)
+        entry = main(tiny_args(tmp_path, "--n-trials", n_trials, *extra))
     return entry, seen
 
 
@@ -440,18 +446,18 @@ def test_a_condition_plays_every_trial_there_and_is_part_of_the_study(
     assert entry is not None
     assert seen and set(seen) == {(0.5, 0.06)}  # the trials and the validation
     assert entry["condition"] == {"friction": 0.5, "pole_radius": 0.06}
-    written = yaml.safe_load((tmp_path / "tuned.yml").read_text())["acl"]
+    written = tuned_gaits.read(tmp_path / "tuned.json")["acl"]
     assert written["condition"] == entry["condition"]
     assert "friction" not in written["env_kwargs"]  # the gait alone, as for any tuned gait
     # The same study under the default condition is another study.
     capsys.readouterr()
     with pytest.raises(SystemExit) as exc:
-        tuning.main(tiny_args(tmp_path, "--n-trials", "4"))
+        main(tiny_args(tmp_path, "--n-trials", "4"))
     assert exc.value.code == 2 and "condition" in capsys.readouterr().err
     # Without --condition, nothing about it is stored: older studies resume as before.
-    tuning.main(tiny_args(tmp_path, "--n-trials", "2", "--study-name", "plain"))
+    main(tiny_args(tmp_path, "--n-trials", "2", "--study-name", "plain"))
     assert "condition" not in load(tmp_path, "plain").user_attrs["settings"]
-    assert "condition" not in yaml.safe_load((tmp_path / "tuned.yml").read_text())["acl"]
+    assert "condition" not in tuned_gaits.read(tmp_path / "tuned.json")["acl"]
 
 
 def test_a_grid_of_conditions_scores_each_gait_on_all_of_them(tmp_path: Path) -> None:
@@ -463,7 +469,7 @@ def test_a_grid_of_conditions_scores_each_gait_on_all_of_them(tmp_path: Path) ->
     for trial in study.get_trials(states=(optuna.trial.TrialState.COMPLETE,)):
         assert trial.user_attrs["seeds_run"] == 2  # one seed in each of two conditions
     # The chosen gait's score is the mean of its episodes over the grid, measured again here.
-    kwargs = {**tuning.TuneSettings().protocol_kwargs(), **entry["env_kwargs"]}
+    kwargs = {**TuneSettings().protocol_kwargs(), **entry["env_kwargs"]}
     kwargs.update(steps_per_cycle=20, cycles_per_episode=1)
     climbs = []
     for friction in (0.7, 1.2):
@@ -471,3 +477,42 @@ def test_a_grid_of_conditions_scores_each_gait_on_all_of_them(tmp_path: Path) ->
         climbs.append(run_episode(env, zero_policy(env), 0).metrics()["climb_per_gait_cycle_m"])
         env.close()
     assert entry["metrics"]["climb_per_gait_cycle_m"] == pytest.approx(np.mean(climbs))
+
+
+def test_defaults_write_only_under_runs_and_never_the_shipped_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Run from an empty folder with the default storage, output and figure: everything the
+    tuner writes lies under ``runs/``, and the shipped tuned gaits stay byte-identical."""
+    shipped_gaits = tuned_gaits.shipped_path()
+    before = shipped_gaits.read_bytes()
+    monkeypatch.chdir(tmp_path)
+    entry = main(
+        [
+            "--steps-per-cycle",
+            "20",
+            "--cycles",
+            "1",
+            "--no-progress-bar",
+            "--seeds",
+            "0",
+            "--n-trials",
+            "2",
+            "--validate-top",
+            "1",
+            "--validate-seeds",
+            "1",
+            "--sampler-seed",
+            "0",
+        ]
+    )
+    assert entry is not None
+    written = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*") if p.is_file())
+    assert written and all(p.parts[0] == "runs" for p in written), written
+    assert {"runs/tune_gait.db", "runs/tuned_gaits.json", "runs/frontier_acl.png"} <= {
+        str(p) for p in written
+    }
+    assert tuned_gaits.read(tmp_path / "runs" / "tuned_gaits.json")["acl"] == jsonable(entry)
+    printed = capsys.readouterr().out
+    assert json.loads(printed[: printed.index("\nfrontier figure")]) == {"acl": jsonable(entry)}
+    assert shipped_gaits.read_bytes() == before

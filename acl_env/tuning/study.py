@@ -1,0 +1,237 @@
+"""The Optuna study: its storage, and the worker processes that run its trials.
+
+Parallel and resumable as rl_zoo3's ``--optimize --storage``: the study lives in a database
+(SQLite file by default, any SQLAlchemy URL Optuna accepts), ``n_jobs`` worker processes share it,
+and so can other processes or machines pointed at the same URL. ``n_trials`` is the study's total
+(finished trials count), so rerunning the same command resumes an interrupted study.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import time
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import optuna
+import sqlalchemy.exc
+from tqdm import tqdm
+
+from acl_env.tuning.objective import TuneSettings, make_objective
+from acl_env.tuning.space import DEFAULT_PARAMS, UsageError
+from acl_env.tuning.stop import catch_stop_signals, stop_point
+
+FINISHED = (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED)
+_CREATE_ATTEMPTS = 8
+
+
+def storage_url(storage: str) -> str:
+    """An Optuna storage URL: a plain path becomes an SQLite file URL."""
+    return storage if "://" in storage else f"sqlite:///{storage}"
+
+
+def open_storage(storage: str) -> optuna.storages.RDBStorage:
+    """The study database (created if missing); unreadable storage raises :class:`UsageError`.
+
+    The heartbeat marks trials of a killed process as failed, so a rerun redoes them; the SQLite
+    timeout lets several processes wait for each other's writes.
+    """
+    url = storage_url(storage)
+    if url.startswith("sqlite:///"):
+        path = Path(url.removeprefix("sqlite:///"))
+        if path.is_dir():
+            raise UsageError("--storage", f"{path} is a folder, not a database file")
+        if not path.parent.exists():
+            path.parent.mkdir(parents=True, exist_ok=True)
+    for attempt in range(_CREATE_ATTEMPTS):
+        try:
+            with warnings.catch_warnings():  # heartbeat_interval: experimental since Optuna 2.9
+                warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+                return optuna.storages.RDBStorage(
+                    url,
+                    engine_kwargs={"connect_args": {"timeout": 60}}
+                    if url.startswith("sqlite")
+                    else {},
+                    heartbeat_interval=30,
+                    grace_period=120,
+                )
+        except Exception as exc:  # SQLAlchemy raises many types: all mean "cannot use it"
+            if _lost_creation_race(exc) and attempt + 1 < _CREATE_ATTEMPTS:
+                time.sleep(0.2 * (attempt + 1))  # another process is creating the tables
+                continue
+            raise UsageError(
+                "--storage", f"cannot open {storage!r}: {exc}".splitlines()[0]
+            ) from None
+    raise AssertionError("unreachable")
+
+
+def _lost_creation_race(exc: Exception) -> bool:
+    """Whether ``exc`` is another process creating the same new database's tables at once.
+
+    Two workers started together on a new SQLite file both try to create Optuna's schema; the
+    loser sees a duplicate table or version row. Once the winner is done, opening succeeds.
+    """
+    text = str(exc)
+    return isinstance(exc, sqlalchemy.exc.IntegrityError | sqlalchemy.exc.OperationalError) and (
+        "already exists" in text or "UNIQUE constraint failed: alembic_version" in text
+    )
+
+
+def _counted(study: optuna.Study) -> int:
+    """Trials that count toward ``--n-trials``: finished, or running in some process."""
+    states = (*FINISHED, optuna.trial.TrialState.RUNNING)
+    return len(study.get_trials(deepcopy=False, states=states))
+
+
+def _sampler(seed: int | None) -> optuna.samplers.TPESampler:
+    # constant_liar: workers sharing a study do not all sample next to the same running trial.
+    return optuna.samplers.TPESampler(
+        n_startup_trials=10, multivariate=True, constant_liar=True, seed=seed
+    )
+
+
+def run_worker(
+    settings: TuneSettings,
+    storage: str,
+    study_name: str,
+    quota: int,
+    n_trials: int,
+    seed: int | None = None,
+    callbacks: Sequence[Callable[[optuna.Study, optuna.trial.FrozenTrial], None]] = (),
+) -> None:
+    """Run up to ``quota`` trials, stopping early once the study holds ``n_trials``."""
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.load_study(
+        study_name=study_name, storage=open_storage(storage), sampler=_sampler(seed)
+    )
+    objective = make_objective(settings)
+    for _ in range(quota):
+        stop_point()
+        if _counted(study) >= n_trials:
+            break
+        study.optimize(objective, n_trials=1, callbacks=list(callbacks))
+
+
+def _worker_process(*args: Any, **kwargs: Any) -> None:
+    """:func:`run_worker` in a spawned process: Ctrl-C (sent to the whole process group) or the
+    parent's SIGTERM ends it quietly at the next safe point; Optuna has marked its running trial
+    failed, and a rerun redoes it."""
+    catch_stop_signals()
+    try:
+        run_worker(*args, **kwargs)
+    except KeyboardInterrupt:
+        pass
+
+
+def prepare_study(
+    settings: TuneSettings, storage: str, study_name: str
+) -> tuple[optuna.Study, optuna.storages.RDBStorage]:
+    """Create or resume the study; a study run with other settings raises :class:`UsageError`."""
+    rdb = open_storage(storage)
+    try:
+        study = optuna.create_study(
+            study_name=study_name,
+            storage=rdb,
+            direction=settings.direction,
+            load_if_exists=True,
+        )
+    except Exception as exc:
+        raise UsageError("--storage", f"cannot use {storage!r}: {exc}".splitlines()[0]) from None
+    attrs = settings.as_attrs()
+    stored = study.user_attrs.get("settings")
+    if stored is None:
+        study.set_user_attr("settings", attrs)
+        if all(
+            settings.space[k].low <= v <= settings.space[k].high for k, v in DEFAULT_PARAMS.items()
+        ):
+            study.enqueue_trial(DEFAULT_PARAMS, user_attrs={"default_gait": True})
+    elif stored != attrs:
+        changed = sorted(k for k in attrs if stored.get(k) != attrs[k])
+        raise UsageError(
+            "--study-name",
+            f"study {study_name!r} in {storage} was run with other settings ({', '.join(changed)}"
+            "); rerun with the same settings to resume, or name a new study",
+        )
+    return study, rdb
+
+
+def run_study(
+    settings: TuneSettings,
+    storage: str,
+    study_name: str,
+    n_trials: int,
+    n_jobs: int = 1,
+    seed: int | None = None,
+    progress: bool = True,
+) -> optuna.Study:
+    """Run the study until it holds ``n_trials`` finished trials, on ``n_jobs`` processes.
+
+    Ctrl-C (or SIGTERM, with :func:`acl_env.tuning.cli.main`'s handler) stops the workers and
+    raises ``KeyboardInterrupt``; the finished trials stay in the study for a rerun to resume
+    from.
+    """
+    study, _ = prepare_study(settings, storage, study_name)
+    with warnings.catch_warnings():  # experimental since Optuna 2.9, still there in 4.x
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        optuna.storages.fail_stale_trials(study)
+    done = _counted(study)
+    bar = tqdm(total=n_trials, initial=done, desc=study_name, unit="trial", disable=not progress)
+    seed_base = None if seed is None else seed + 1000 * done
+
+    def update(study: optuna.Study, trial: optuna.trial.FrozenTrial) -> None:
+        bar.update()
+        bar.set_postfix_str(_best_text(study))
+
+    workers: list[multiprocessing.process.BaseProcess] = []
+    try:
+        # Enqueued trials (the default gait) run here first: two processes popping the same
+        # waiting trial from SQLite can both run it, and the second fails to record it.
+        waiting = len(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.WAITING,)))
+        if waiting and done < n_trials:
+            run_worker(settings, storage, study_name, waiting, n_trials, seed_base, [update])
+        remaining = max(0, n_trials - _counted(study))
+        if remaining and n_jobs == 1:
+            run_worker(settings, storage, study_name, remaining, n_trials, seed_base, [update])
+        elif remaining:
+            context = multiprocessing.get_context("spawn")
+            quotas = [remaining // n_jobs + (i < remaining % n_jobs) for i in range(n_jobs)]
+            workers = [
+                context.Process(
+                    target=_worker_process,
+                    args=(settings, storage, study_name, quota, n_trials),
+                    kwargs={"seed": None if seed_base is None else seed_base + 1 + i},
+                )
+                for i, quota in enumerate(quotas)
+                if quota
+            ]
+            for worker in workers:
+                worker.start()
+            while any(worker.is_alive() for worker in workers):
+                time.sleep(1.0)
+                stop_point()
+                finished = len(study.get_trials(deepcopy=False, states=FINISHED))
+                bar.update(max(0, finished - bar.n))
+                bar.set_postfix_str(_best_text(study))
+            failed = [w.exitcode for w in workers if w.exitcode]
+            if failed:
+                raise RuntimeError(f"tuning workers exited with status {failed}")
+    except KeyboardInterrupt:
+        for worker in workers:
+            worker.terminate()  # SIGTERM: it stops at its next safe point, its trial failed
+        for worker in workers:
+            worker.join(timeout=60.0)
+            if worker.is_alive():  # stuck: its trial stays RUNNING until the heartbeat fails it
+                worker.kill()
+        raise
+    finally:
+        bar.close()
+    return study
+
+
+def _best_text(study: optuna.Study) -> str:
+    try:
+        return f"best {study.best_value:.4g} (trial {study.best_trial.number})"
+    except ValueError:
+        return "no qualified trial yet"

@@ -1,4 +1,6 @@
-"""Training and evaluation scripts, through the command line a user types (train/*.py)."""
+"""Training and evaluation commands, through the command line a user types (``acl-train``,
+``acl-evaluate``, run as ``python -m <module>``), and the recipes they train from: the shipped one
+(``acl_env/data/ppo.yml``) and the experiments' deltas over it (``experiments/*/*/recipe.yml``)."""
 
 from __future__ import annotations
 
@@ -21,12 +23,17 @@ from acl_env import (
     NOROLL_KWARGS,
     ROLLING_HELIX_CLIMB_ID,
     evaluation,
+    shipped,
+    tuned_gaits,
 )
 from acl_env.envs import ACLClimbEnv
 from acl_env.training import config
 
 ROOT = Path(__file__).resolve().parents[1]
-TRAIN = ROOT / "train"
+RECIPE = shipped.recipe_path()  # the shipped recipe, acl_env/data/ppo.yml
+EXPERIMENTS = ROOT / "experiments"
+TRAIN_MODULE = "acl_env.training.trainer"  # acl-train
+EVALUATE_MODULE = "acl_env.evaluation.cli"  # acl-evaluate
 
 ACL_ID = ACL_CLIMB_ID
 HELIX_ID = ROLLING_HELIX_CLIMB_ID
@@ -38,7 +45,7 @@ TRAIN_STEPS = 512
 
 
 def run_script(*args: str, timeout: float = 400) -> subprocess.CompletedProcess:
-    """Run ``python train/<script> args`` from the repository root; fail with its output."""
+    """Run ``python args`` (``-m <module> ...``) from the repository root; fail with its output."""
     proc = subprocess.run(
         [sys.executable, *args], cwd=ROOT, capture_output=True, text=True, timeout=timeout
     )
@@ -49,7 +56,7 @@ def run_script(*args: str, timeout: float = 400) -> subprocess.CompletedProcess:
 def train_command(run_root: Path, n_timesteps: int, *extra: str) -> list[str]:
     """A tiny training run: 2 subprocess envs, 128-step rollouts, 20-step episodes."""
     return [
-        str(TRAIN / "train_ppo.py"),
+        *["-m", TRAIN_MODULE],
         "--env",
         ACL_ID,
         "--seed",
@@ -88,7 +95,7 @@ def trained_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_config_entries_build_ppo_arguments() -> None:
     """Both env entries parse; the residual starts small; gamma is long-horizon."""
     for env_id in (ACL_ID, HELIX_ID):
-        hyperparams = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
+        hyperparams = config.load_hyperparams(RECIPE, env_id)
         kwargs = config.algo_kwargs(hyperparams)
         # Initial joint noise = action std x residual_scale: at most 0.03 rad, which the open-loop
         # gait shrugs off (ppo.yml's comment has the measurements).
@@ -104,60 +111,93 @@ def test_config_entries_build_ppo_arguments() -> None:
         assert not set(kwargs) & set(config.NON_ALGO_KEYS)
 
 
-# (recipe, tuned-gaits file, same reward weights): recipes that start from a tuner's gait
+def recipe(experiment: str) -> Path:
+    """The recipe of an experiment's run: ``experiments/<topic>/<run>/recipe.yml``."""
+    (path,) = EXPERIMENTS.glob(f"*/{experiment}/recipe.yml")
+    return path
+
+
+def gaits_file(name: str) -> Path:
+    """A tuned-gaits file of the experiments: ``experiments/<topic>/<name>.json``."""
+    (path,) = EXPERIMENTS.glob(f"*/{name}.json")
+    return path
+
+
+def test_shipped_recipe_names_the_shipped_tuned_gait() -> None:
+    """ppo.yml's ACLClimb-v1 entry names its gait by key (``tuned_gait: acl``, one home for the
+    numbers): it resolves to the shipped "acl" entry, whose reward weights are the recipe's (the
+    tuner's objective, so evaluation's tuned open loop is the best gait for the same reward), and
+    the env it builds plays that gait."""
+    from acl_env.training.checks import check_env_kwargs
+
+    env_kwargs = config.load_hyperparams(RECIPE, ACL_ID)["env_kwargs"]
+    assert env_kwargs["tuned_gait"] == "acl"
+    entry = tuned_gaits.entry("acl")
+    resolved = tuned_gaits.resolve(env_kwargs)
+    assert "tuned_gait" not in resolved
+    assert resolved["squeeze"] == entry["env_kwargs"]["squeeze"]
+    assert resolved["gait_kwargs"] == entry["env_kwargs"]["gait_kwargs"]
+    assert env_kwargs["reward_weights"] == entry["reward_weights"]
+    env = check_env_kwargs(ACL_ID, {**env_kwargs, **SHORT})
+    try:
+        assert env.unwrapped.squeeze == entry["env_kwargs"]["squeeze"]
+    finally:
+        env.close()
+
+
+# (experiment, tuned-gaits file or None for the shipped ones, same reward weights): recipes that
+# start from a tuner's "acl" gait
 GAIT_RECIPES = [
-    ("ppo.yml", "tuned_gaits.yml", True),  # the shipped recipe: the tuner's objective too
-    ("ablations/acl_cadence_tuned_gait.yml", "tuned_gaits.yml", True),
-    ("ablations/acl_cadence_tuned_gait_critic.yml", "tuned_gaits.yml", True),
-    ("ablations/acl_slip_weight_3.yml", "tuned_gaits.yml", False),
-    ("ablations/acl_cadence_range_1_5.yml", "tuned_gaits.yml", True),
-    ("ablations/acl_gae_lambda_098.yml", "tuned_gaits.yml", True),
-    ("ablations/acl_cadence2_gait.yml", "tuned_gaits_cadence2.yml", True),
-    ("ablations/acl_energy_gait.yml", "tuned_gaits_acl_energy.yml", True),
-    ("ablations/acl_constant_lr.yml", "tuned_gaits_acl_energy.yml", True),
-    ("ablations/acl_no_energy_term.yml", "tuned_gaits_acl_energy.yml", False),
-    ("ablations/acl_climb_slip_tuned_gait.yml", "tuned_gaits_climb_slip.yml", True),
+    ("acl_cadence_tuned_gait", None, True),
+    ("acl_cadence_tuned_gait_critic", None, True),
+    ("acl_slip_weight_3", None, False),
+    ("acl_cadence_range_1_5", None, True),
+    ("acl_gae_lambda_098", None, True),
+    ("acl_cadence2_gait", "tuned_gaits_cadence2", True),
+    ("acl_energy_gait", "tuned_gaits_acl_energy", True),
+    ("acl_constant_lr", "tuned_gaits_acl_energy", True),
+    ("acl_no_energy_term", "tuned_gaits_acl_energy", False),
+    ("acl_climb_slip_tuned_gait", "tuned_gaits_climb_slip", True),
 ]
 
 
-@pytest.mark.parametrize(("recipe", "gaits", "same_weights"), GAIT_RECIPES)
-def test_recipe_plays_the_tuned_gait(recipe: str, gaits: str, same_weights: bool) -> None:
-    """ppo.yml's ACLClimb-v1 entry (and the ablations beside it) start from a tuner's "acl"
-    gait; the shipped one with the tuner's reward weights, so evaluation's tuned open loop is the
-    best gait for the same reward."""
-    hyperparams = config.load_hyperparams(TRAIN / "configs" / recipe, ACL_ID)
-    tuned = yaml.safe_load((TRAIN / "configs" / gaits).read_text())["acl"]
-    env_kwargs = hyperparams["env_kwargs"]
+@pytest.mark.parametrize(("experiment", "gaits", "same_weights"), GAIT_RECIPES)
+def test_recipe_plays_the_tuned_gait(
+    experiment: str, gaits: str | None, same_weights: bool
+) -> None:
+    """The ablations beside the shipped recipe start from a tuner's "acl" gait (the shipped one,
+    by key or by its numbers, or a study's of their own)."""
+    hyperparams = config.load_hyperparams(recipe(experiment), ACL_ID)
+    tuned = tuned_gaits.read(None if gaits is None else gaits_file(gaits))["acl"]
+    env_kwargs = tuned_gaits.resolve(hyperparams["env_kwargs"])
     assert env_kwargs["squeeze"] == tuned["env_kwargs"]["squeeze"]
     assert env_kwargs["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
     assert (env_kwargs["reward_weights"] == tuned["reward_weights"]) is same_weights
 
 
 def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> None:
-    """tuned_gaits.yml's "acl" gait, the shipped recipe's base, was tuned for the shipped reward
-    (at 1.45 keyframes per step). A second study of the same reward, tuned at the shipped
-    policy's mean cadence (within 5 %, docs/eval.json), found no better gait there: in
-    docs/cadence_sweep.json the shipped gait earns at least as much per gait cycle at that
-    cadence, within the 95 % interval, and more than the cadence-1 study's gait at every cadence
-    swept."""
-    from acl_env.training.evaluate import tuned_gait
+    """The shipped "acl" gait, the shipped recipe's base, was tuned for the shipped reward (at
+    1.45 keyframes per step). A second study of the same reward, tuned at the shipped policy's
+    mean cadence (within 5 %, docs/eval.json), found no better gait there: in
+    experiments/acl_cadence/cadence_sweep.json the shipped gait earns at least as much per gait
+    cycle at that cadence, within the 95 % interval, and more than the cadence-1 study's gait at
+    every cadence swept."""
+    from acl_env.evaluation.baselines import tuned_gait
 
-    configs = TRAIN / "configs"
-    entry = yaml.safe_load((configs / "tuned_gaits.yml").read_text())["acl"]
-    at_cadence = yaml.safe_load((configs / "tuned_gaits_cadence2.yml").read_text())["acl"]
-    recipe = config.load_hyperparams(configs / "ppo.yml", ACL_ID)
-    weights = recipe["env_kwargs"]["reward_weights"]
+    entry = tuned_gaits.entry("acl")
+    at_cadence = tuned_gaits.read(gaits_file("tuned_gaits_cadence2"))["acl"]
+    weights = config.load_hyperparams(RECIPE, ACL_ID)["env_kwargs"]["reward_weights"]
     assert entry["reward_weights"] == at_cadence["reward_weights"] == weights
     cadence = json.loads((ROOT / "docs" / "eval.json").read_text())["same_cadence_phase_rate"]
     default_cycle = inspect.signature(ACLClimbEnv).parameters["steps_per_cycle"].default
     assert "steps_per_cycle" not in (gymnasium.spec(ACL_ID).kwargs or {})
     assert default_cycle / at_cadence["steps_per_cycle"] == pytest.approx(cadence, rel=0.05)
-    gait, note = tuned_gait(configs / "tuned_gaits.yml", weights, non_rolling=False)
+    gait, note = tuned_gait(tuned_gaits.shipped_path(), weights, non_rolling=False)
     assert gait is not None and "NOT" not in note
     assert gait[1]["gait_kwargs"]["rolls_per_cycle"] == 1
 
-    sweep = json.loads((ROOT / "docs" / "cadence_sweep.json").read_text())
-    assert sweep["tuned_gaits"] == [
+    sweep = json.loads((EXPERIMENTS / "acl_cadence" / "cadence_sweep.json").read_text())
+    assert sweep["tuned_gaits"] == [  # the record names the files as they were then
         "train/configs/tuned_gaits.yml",
         "train/configs/tuned_gaits_cadence2.yml",
         "train/configs/tuned_gaits_acl_energy.yml",
@@ -185,8 +225,8 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
     """The README says each shipped policy comes from its ppo.yml entry: the run's merged
     config.yml must be that entry (``n_timesteps`` aside: a run in segments passes
     ``--n-timesteps`` per segment), and the run must have trained all of its steps."""
-    folder = TRAIN / "policies" / policy
-    recipe = config.load_hyperparams(TRAIN / "configs" / "ppo.yml", env_id)
+    folder = shipped.policy_dir(policy)
+    recipe = config.load_hyperparams(RECIPE, env_id)
     trained = config.load_hyperparams(folder / "config.yml", env_id)
     assert {k: v for k, v in trained.items() if k != "n_timesteps"} == {
         k: v for k, v in recipe.items() if k != "n_timesteps"
@@ -198,53 +238,44 @@ def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, polic
 
 # Ablations that train with another slip weight than the shipped recipe's 2 (reward shaping); the
 # README evaluates them under the shipped weights, against the open loop tuned for those.
-SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3.yml": 3.0}
+SHAPED_SLIP_WEIGHT = {"acl_slip_weight_3": 3.0}
 # Non-rolling runs whose objective is the climb (slip 0), on a gait a climb study found, as
-# ppo.yml's shipped non-rolling recipe; the roll term stays. Recipe -> that study's gaits file
-# and entry.
+# ppo.yml's shipped non-rolling recipe; the roll term stays. Experiment -> that study's gaits file
+# (None: the shipped tuned gaits) and entry.
 NOROLL_CLIMB_GAITS = {
-    "ablations/noroll_v2_gait.yml": ("tuned_gaits.yml", "acl_noroll"),
-    "ablations/noroll_climb_gait_action_rate.yml": (
-        "tuned_gaits_noroll_climb.yml",
-        "acl_noroll_climb",
-    ),
-    "ablations/noroll_climb_gait.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
-    "ablations/noroll_no_action_rate.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
-    "ablations/noroll_climb_rerun_gait.yml": (
-        "tuned_gaits_noroll_climb_rerun.yml",
-        "acl_noroll_climb",
-    ),
-    "ablations/noroll_wide_range_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
-    "ablations/noroll_thin_pole_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
-    "ablations/noroll_roll_margin_warm.yml": ("tuned_gaits_noroll_climb.yml", "acl_noroll_climb"),
-    "ablations/noroll_thin_gait_action_rate.yml": (
-        "tuned_gaits_noroll_climb_thin.yml",
-        "acl_noroll_climb_thin",
-    ),
-    "ablations/noroll_thin_gait.yml": (
-        "tuned_gaits_noroll_climb_thin.yml",
-        "acl_noroll_climb_thin",
-    ),
+    "noroll_v2_gait": (None, "acl_noroll"),
+    "noroll_climb_gait_action_rate": ("tuned_gaits_noroll_climb", "acl_noroll_climb"),
+    "noroll_climb_gait": ("tuned_gaits_noroll_climb", "acl_noroll_climb"),
+    "noroll_no_action_rate": ("tuned_gaits_noroll_climb", "acl_noroll_climb"),
+    "noroll_climb_rerun_gait": ("tuned_gaits_noroll_climb_rerun", "acl_noroll_climb"),
+    "noroll_wide_range_warm": ("tuned_gaits_noroll_climb", "acl_noroll_climb"),
+    "noroll_thin_pole_warm": ("tuned_gaits_noroll_climb", "acl_noroll_climb"),
+    "noroll_roll_margin_warm": ("tuned_gaits_noroll_climb", "acl_noroll_climb"),
+    "noroll_thin_gait_action_rate": ("tuned_gaits_noroll_climb_thin", "acl_noroll_climb_thin"),
+    "noroll_thin_gait": ("tuned_gaits_noroll_climb_thin", "acl_noroll_climb_thin"),
 }
-# Climb recipes on a gait another study found: recipe -> that study's objective (by default the
-# climb's). The registered reward's study, rerun on v2, found the gait that climbs furthest.
-NOROLL_GAIT_OBJECTIVE = {"ablations/noroll_v2_gait.yml": "reward_per_gait_cycle"}
+# Climb recipes on a gait another study found: experiment -> that study's objective (by default
+# the climb's). The registered reward's study, rerun on v2, found the gait that climbs furthest.
+NOROLL_GAIT_OBJECTIVE = {"noroll_v2_gait": "reward_per_gait_cycle"}
 NOROLL_CLIMB_OBJECTIVE = tuple(NOROLL_CLIMB_GAITS)
-# Climb recipes on v3's registered gait (no gait kwargs), as ppo.yml's: recipe -> the terms it
+# Climb recipes on v3's registered gait (no gait kwargs), as ppo.yml's: experiment -> the terms it
 # adds to the climb objective's weights. residual_016 doubles the residual's bound and keeps the
 # action-rate penalty per squared radian: 0.001 / 0.08**2 = 0.004 / 0.16**2.
-NOROLL_V3_CLIMB_EXTRA_WEIGHTS = {"ablations/noroll_v3_residual_016.yml": {"action_rate": 0.004}}
+NOROLL_V3_CLIMB_EXTRA_WEIGHTS = {"noroll_v3_residual_016": {"action_rate": 0.004}}
 # Terms a climb recipe adds to the climb objective's weights (a shaping ablation).
 NOROLL_CLIMB_EXTRA_WEIGHTS = {
-    "ablations/noroll_v2_gait.yml": {"action_rate": 0.001},
-    "ablations/noroll_thin_gait_action_rate.yml": {"action_rate": 0.001},
-    "ablations/noroll_climb_gait_action_rate.yml": {"action_rate": 0.001},
+    "noroll_v2_gait": {"action_rate": 0.001},
+    "noroll_thin_gait_action_rate": {"action_rate": 0.001},
+    "noroll_climb_gait_action_rate": {"action_rate": 0.001},
 }
 
 
-@pytest.mark.parametrize("path", sorted((TRAIN / "configs" / "ablations").glob("*.yml")))
+@pytest.mark.parametrize(
+    "path", sorted(EXPERIMENTS.glob("*/*/recipe.yml")), ids=lambda path: path.parent.name
+)
 def test_ablation_configs_are_valid_recipes(path: Path) -> None:
-    """Each ablation config is a zoo file the trainer accepts, whose env kwargs build the env."""
+    """Each experiment's recipe is a zoo file the trainer accepts (a delta over the shipped
+    recipe, resolved), whose env kwargs build the env."""
     from acl_env.training.checks import check_env_kwargs, check_hyperparams
 
     (env_id,) = yaml.safe_load(path.read_text())  # one entry per file
@@ -253,41 +284,109 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
     env_kwargs = {**hyperparams["env_kwargs"], **SHORT}
     check_env_kwargs(env_id, env_kwargs).close()
     weights = hyperparams["env_kwargs"]["reward_weights"]
-    if f"ablations/{path.name}" in NOROLL_CLIMB_OBJECTIVE:  # checked by the test below
+    experiment = path.parent.name
+    if experiment in NOROLL_CLIMB_OBJECTIVE:  # checked by the test below
         assert weights["slip"] == 0.0
-    elif f"ablations/{path.name}" in NOROLL_V3_CLIMB_EXTRA_WEIGHTS:  # the registered gait
+    elif experiment in NOROLL_V3_CLIMB_EXTRA_WEIGHTS:  # the registered gait
         assert env_id == ACL_CLIMB_NOROLL_ID
-        assert not {"squeeze", "gait_kwargs"} & set(hyperparams["env_kwargs"])
+        assert not {"squeeze", "gait_kwargs", "tuned_gait"} & set(hyperparams["env_kwargs"])
         assert weights == {
             **NOROLL_KWARGS["reward_weights"],
             "slip": 0.0,
-            **NOROLL_V3_CLIMB_EXTRA_WEIGHTS[f"ablations/{path.name}"],
+            **NOROLL_V3_CLIMB_EXTRA_WEIGHTS[experiment],
         }
     elif env_id in NOROLL_IDS:  # the task's registered weights, the tuner's objective
         assert weights == NOROLL_KWARGS["reward_weights"]
     else:  # the shipped recipe's weights, or a shaping ablation's (evaluated under the shipped)
-        assert weights["slip"] == SHAPED_SLIP_WEIGHT.get(path.name, 2.0)
+        assert weights["slip"] == SHAPED_SLIP_WEIGHT.get(experiment, 2.0)
 
 
-@pytest.mark.parametrize("recipe", NOROLL_CLIMB_OBJECTIVE)
-def test_noroll_climb_recipe_plays_the_climb_studys_gait(recipe: str) -> None:
-    """The shipped non-rolling recipe (and its ablations) start from the gait a climb study found
-    (or, where NOROLL_GAIT_OBJECTIVE says, another study), and train for the climb (slip weight
-    0; the registered roll term kept), so its open loop is the best gait found for the climb."""
-    path = TRAIN / "configs" / recipe
+@pytest.mark.parametrize("experiment", NOROLL_CLIMB_OBJECTIVE)
+def test_noroll_climb_recipe_plays_the_climb_studys_gait(experiment: str) -> None:
+    """The shipped non-rolling recipe's ablations start from the gait a climb study found (or,
+    where NOROLL_GAIT_OBJECTIVE says, another study), and train for the climb (slip weight 0; the
+    registered roll term kept), so its open loop is the best gait found for the climb."""
+    path = recipe(experiment)
     (env_id,) = yaml.safe_load(path.read_text())  # one entry per file
     hyperparams = config.load_hyperparams(path, env_id)
-    gaits, key = NOROLL_CLIMB_GAITS[recipe]
-    entry = yaml.safe_load((TRAIN / "configs" / gaits).read_text())[key]
-    assert entry["objective"] == NOROLL_GAIT_OBJECTIVE.get(recipe, "climb_per_gait_cycle_m")
+    gaits, key = NOROLL_CLIMB_GAITS[experiment]
+    entry = tuned_gaits.read(None if gaits is None else gaits_file(gaits))[key]
+    assert entry["objective"] == NOROLL_GAIT_OBJECTIVE.get(experiment, "climb_per_gait_cycle_m")
     assert entry["env_kwargs"]["gait_kwargs"]["rolls_per_cycle"] == 0
+    env_kwargs = tuned_gaits.resolve(hyperparams["env_kwargs"])
     for key in ("squeeze", "gait_kwargs"):
-        assert hyperparams["env_kwargs"][key] == entry["env_kwargs"][key]
-    assert hyperparams["env_kwargs"]["reward_weights"] == {
+        assert env_kwargs[key] == entry["env_kwargs"][key]
+    assert env_kwargs["reward_weights"] == {
         **NOROLL_KWARGS["reward_weights"],
         "slip": 0.0,
-        **NOROLL_CLIMB_EXTRA_WEIGHTS.get(recipe, {}),
+        **NOROLL_CLIMB_EXTRA_WEIGHTS.get(experiment, {}),
     }
+
+
+# --- recipes as deltas over the shipped recipe --------------------------------------------------
+
+
+def write_recipe(tmp_path: Path, entry: dict[str, object]) -> Path:
+    """A one-entry recipe for the non-rolling v2 env."""
+    path = tmp_path / "recipe.yml"
+    path.write_text(yaml.safe_dump({ACL_CLIMB_NOROLL_V2_ID: entry}, sort_keys=False))
+    return path
+
+
+def test_recipe_delta_replaces_top_level_keys_and_merges_env_kwargs(tmp_path: Path) -> None:
+    """A delta's top-level keys replace its base's; its env kwargs are merged key by key, a value
+    replacing the base's whole; the result is a plain full recipe (no ``base``)."""
+    base = config.load_hyperparams(RECIPE, ACL_CLIMB_NOROLL_ID)
+    path = write_recipe(
+        tmp_path,
+        {
+            "base": ACL_CLIMB_NOROLL_ID,
+            "n_timesteps": 1000,
+            "gamma": 0.99,
+            "env_kwargs": {"squeeze": 0.0157, "reward_weights": {"climb": 1.0}},
+        },
+    )
+    resolved = config.load_hyperparams(path, ACL_CLIMB_NOROLL_V2_ID)
+    assert "base" not in resolved
+    assert resolved == {
+        **base,
+        "n_timesteps": 1000,
+        "gamma": 0.99,
+        "env_kwargs": {**base["env_kwargs"], "squeeze": 0.0157, "reward_weights": {"climb": 1.0}},
+    }
+    assert base["n_timesteps"] != 1000 and base["env_kwargs"]["domain_randomization"]
+    config.save_hyperparams(tmp_path / "config.yml", ACL_CLIMB_NOROLL_V2_ID, resolved)
+    assert config.load_hyperparams(tmp_path / "config.yml", ACL_CLIMB_NOROLL_V2_ID) == resolved
+
+
+def test_recipe_delta_null_removes_an_env_kwarg(tmp_path: Path) -> None:
+    """``null`` in a delta's env kwargs removes the base's key (the env's default applies)."""
+    path = write_recipe(
+        tmp_path, {"base": ACL_CLIMB_NOROLL_ID, "env_kwargs": {"domain_randomization": None}}
+    )
+    resolved = config.load_hyperparams(path, ACL_CLIMB_NOROLL_V2_ID)
+    base = config.load_hyperparams(RECIPE, ACL_CLIMB_NOROLL_ID)
+    assert "domain_randomization" not in resolved["env_kwargs"]
+    assert resolved["env_kwargs"] == {
+        k: v for k, v in base["env_kwargs"].items() if k != "domain_randomization"
+    }
+
+
+def test_recipe_delta_changing_a_tuned_gait_writes_out_its_numbers(tmp_path: Path) -> None:
+    """Over a base that names its gait by key, a delta's squeeze changes that gait's squeeze."""
+    path = tmp_path / "recipe.yml"
+    path.write_text(yaml.safe_dump({ACL_ID: {"base": ACL_ID, "env_kwargs": {"squeeze": 0.001}}}))
+    env_kwargs = config.load_hyperparams(path, ACL_ID)["env_kwargs"]
+    assert "tuned_gait" not in env_kwargs and env_kwargs["squeeze"] == 0.001
+    assert env_kwargs["gait_kwargs"] == tuned_gaits.gait_shape("acl")["gait_kwargs"]
+
+
+@pytest.mark.parametrize("base", ["acl_env/NoSuchEnv-v0", ".residual-ppo", 3])
+def test_recipe_delta_on_an_unknown_base_is_refused(tmp_path: Path, base: object) -> None:
+    """A base that is not an entry of the shipped recipe is refused, naming it and the entries."""
+    path = write_recipe(tmp_path, {"base": base, "n_timesteps": 1000})
+    with pytest.raises(config.RecipeError, match=f"base {base!r}.*{ACL_CLIMB_NOROLL_ID}"):
+        config.load_hyperparams(path, ACL_CLIMB_NOROLL_V2_ID)
 
 
 def test_linear_schedule_decays_to_zero() -> None:
@@ -357,7 +456,7 @@ def test_evaluate_loads_the_run(trained_run: Path, tmp_path: Path) -> None:
     """A trained run evaluates through the command line: every controller has every metric."""
     out, plot = tmp_path / "eval.json", tmp_path / "eval.png"
     run_script(
-        str(TRAIN / "evaluate.py"),
+        *["-m", EVALUATE_MODULE],
         *["--policy", str(trained_run), "--episodes", "2", "--json", str(out)],
         *["--plot", str(plot), "--no-progress-bar", "--env-kwargs", *SHORT_ARGS],
     )
@@ -378,10 +477,10 @@ def test_evaluate_loads_the_run(trained_run: Path, tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_the_zoo_trains_from_the_config(tmp_path: Path) -> None:
-    """rl-baselines3-zoo reads train/configs/ppo.yml as it is (policy_kwargs, normalize strings)."""
+    """rl-baselines3-zoo reads the shipped recipe as it is (policy_kwargs, normalize strings)."""
     run_script(
         *["-m", "rl_zoo3.train", "--algo", "ppo", "--env", ACL_ID, "--gym-packages", "acl_env"],
-        *["--conf-file", str(TRAIN / "configs" / "ppo.yml"), "-n", "128", "--eval-freq", "-1"],
+        *["--conf-file", str(RECIPE), "-n", "128", "--eval-freq", "-1"],
         *["--log-folder", str(tmp_path), "--hyperparams", "n_steps:64", "batch_size:64"],
         *["--env-kwargs", *SHORT_ARGS],
     )

@@ -30,7 +30,6 @@ from acl_env import ACL_CLIMB_ID
 from acl_env.training import trainer
 from acl_env.training.runs import write_json
 
-ROOT = Path(__file__).resolve().parents[1]
 ROLLOUT = 128  # env steps per update: n_steps 64 x 2 envs
 EPS = 1e-4  # RunningMeanStd's initial count
 
@@ -406,6 +405,55 @@ def test_lowercase_booleans_are_booleans(tmp_path: Path) -> None:
     assert not (tmp_path / "runs").exists()
 
 
+def test_env_kwargs_override_the_recipes_tuned_gait(tmp_path: Path) -> None:
+    """The shipped recipe names its gait by key (``tuned_gait: acl``); ``--env-kwargs squeeze:X``
+    still changes that gait's squeeze alone: the gait's numbers are written out, then replaced."""
+    from acl_env import tuned_gaits
+
+    shape = tuned_gaits.gait_shape("acl")
+    argv = tiny_argv(tmp_path / "runs", 128, "--env-kwargs", "squeeze:0.001")
+    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    env_kwargs = plan.hyperparams["env_kwargs"]
+    assert "tuned_gait" not in env_kwargs
+    assert env_kwargs["squeeze"] == 0.001 and env_kwargs["gait_kwargs"] == shape["gait_kwargs"]
+    argv = tiny_argv(tmp_path / "runs", 128)
+    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    assert plan.hyperparams["env_kwargs"]["tuned_gait"] == "acl"  # kept by key otherwise
+    assert not (tmp_path / "runs").exists()
+
+
+def test_a_recipe_delta_plans_as_its_resolved_entry(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--config`` may be an experiment's delta over the shipped recipe: the run gets the
+    resolved entry; a delta on an unknown base is refused, naming ``--config`` and the base."""
+    from acl_env import shipped
+    from acl_env.training import config
+
+    delta = tmp_path / "recipe.yml"
+    delta.write_text(
+        yaml.safe_dump({ACL_CLIMB_ID: {"base": ACL_CLIMB_ID, "env_kwargs": {"friction": 0.9}}})
+    )
+    argv = tiny_argv(tmp_path / "runs", 128, "--config", str(delta))
+    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    base = config.load_hyperparams(shipped.recipe_path(), ACL_CLIMB_ID)
+    assert "base" not in plan.hyperparams
+    assert plan.hyperparams["env_kwargs"] == {
+        **base["env_kwargs"],
+        "friction": 0.9,
+        "steps_per_cycle": 20,
+        "cycles_per_episode": 1,
+    }
+    assert plan.hyperparams["learning_rate"] == base["learning_rate"]
+    delta.write_text(yaml.safe_dump({ACL_CLIMB_ID: {"base": "acl_env/NoSuch-v0"}}))
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(tiny_argv(tmp_path / "runs", 128, "--config", str(delta)))
+    err = capsys.readouterr().err.strip()
+    assert exit_info.value.code == 2 and len(err.splitlines()) == 1
+    assert "--config" in err and "acl_env/NoSuch-v0" in err, err
+    assert not (tmp_path / "runs").exists()
+
+
 @pytest.fixture(scope="module")
 def complete_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A finished 128-step run."""
@@ -420,14 +468,15 @@ def complete_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     "signals", [(signal.SIGINT, signal.SIGINT), (signal.SIGTERM, signal.SIGINT)], ids=str
 )
 def test_signals_from_outside(tmp_path: Path, signals: tuple[int, int]) -> None:
-    """``train/train_ppo.py`` with subprocess workers, two signals 50 ms apart once learning has
-    started: exit 0, a loadable model at a whole number of updates with matching statistics."""
+    """``acl-train`` (``python -m acl_env.training.trainer``) with subprocess workers, two
+    signals 50 ms apart once learning has started: exit 0, a loadable model at a whole number of
+    updates with matching statistics."""
     run_root, log = tmp_path / "runs", tmp_path / "train.log"
     argv = tiny_argv(run_root, 10**7)
     argv[argv.index("dummy")] = "subproc"
     with open(log, "w") as out:
         proc = subprocess.Popen(
-            [sys.executable, str(ROOT / "train" / "train_ppo.py"), *argv],
+            [sys.executable, "-m", "acl_env.training.trainer", *argv],
             cwd=tmp_path,
             stdout=out,
             stderr=out,
@@ -623,3 +672,19 @@ def test_latest_model_prefers_the_final_model_on_a_tie_and_names_a_bad_file(
     final.write_bytes(b"not a zip")
     with pytest.raises(ValueError, match=r"model\.zip: not an SB3 model"):
         latest_model(tmp_path)
+
+
+def test_a_recipe_with_one_entry_trains_that_env_without_env(tmp_path: Path) -> None:
+    """``acl-train --config experiments/.../recipe.yml`` without ``--env`` plans the recipe's only
+    entry (here a non-rolling v2 delta), not the default env."""
+    from acl_env import ACL_CLIMB_NOROLL_V2_ID
+
+    delta = tmp_path / "recipe.yml"
+    delta.write_text(
+        yaml.safe_dump({ACL_CLIMB_NOROLL_V2_ID: {"base": "acl_env/ACLClimbNoRoll-v3"}})
+    )
+    argv = tiny_argv(tmp_path / "runs", 128, "--config", str(delta))
+    argv = argv[2:]  # drop "--env ACL_CLIMB_ID"
+    assert "--env" not in argv
+    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    assert plan.env_id == ACL_CLIMB_NOROLL_V2_ID

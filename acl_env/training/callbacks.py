@@ -174,29 +174,28 @@ class TimingCallback(BaseCallback):
         self._rollout_start: float | None = None
         self._rollout_end: float | None = None
 
+    @staticmethod
+    def _since(start: float | None, now: float) -> float:
+        """Seconds from ``start`` to ``now``; 0 when nothing was started."""
+        return 0.0 if start is None else now - start
+
     def _on_rollout_start(self) -> None:
         now = time.perf_counter()
-        if self._rollout_end is not None:
-            self.between_s += now - self._rollout_end
-            self._rollout_end = None
-        self._rollout_start = now
+        self.between_s += self._since(self._rollout_end, now)
+        self._rollout_start, self._rollout_end = now, None
 
     def _on_step(self) -> bool:
         return True
 
     def _on_rollout_end(self) -> None:
         now = time.perf_counter()
-        if self._rollout_start is not None:
-            self.rollout_s += now - self._rollout_start
-            self._rollout_start = None
-        self._rollout_end = now
+        self.rollout_s += self._since(self._rollout_start, now)
+        self._rollout_start, self._rollout_end = None, now
 
     def _on_training_end(self) -> None:
         now = time.perf_counter()
-        if self._rollout_start is not None:  # stopped inside a rollout
-            self.rollout_s += now - self._rollout_start
-        if self._rollout_end is not None:
-            self.between_s += now - self._rollout_end
+        self.rollout_s += self._since(self._rollout_start, now)  # stopped inside a rollout
+        self.between_s += self._since(self._rollout_end, now)
         self._rollout_start = self._rollout_end = None
 
 

@@ -141,13 +141,20 @@ def _bool(value: Any) -> bool:
     return isinstance(value, bool)
 
 
+def _parsed(value: Any) -> Any:
+    """A zoo string parsed by :func:`parse_python_literal` (None if it does not parse); any
+    other value as it is."""
+    if not isinstance(value, str):
+        return value
+    try:
+        return parse_python_literal(value)
+    except (ValueError, SyntaxError):
+        return None
+
+
 def _normalize(value: Any) -> bool:
     """``normalize``: a bool, a dict of VecNormalize arguments, or such a dict as a string."""
-    if isinstance(value, str):
-        try:
-            value = parse_python_literal(value)
-        except (ValueError, SyntaxError):
-            return False
+    value = _parsed(value)
     if isinstance(value, bool):
         return True
     allowed = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "gamma", "epsilon"}
@@ -155,12 +162,7 @@ def _normalize(value: Any) -> bool:
 
 
 def _policy_kwargs(value: Any) -> bool:
-    if isinstance(value, str):
-        try:
-            value = parse_python_literal(value)
-        except (ValueError, SyntaxError):
-            return False
-    return isinstance(value, dict)
+    return isinstance(_parsed(value), dict)
 
 
 def _callback(value: Any) -> bool:

@@ -1,4 +1,4 @@
-"""Command-line building blocks for the ``train/`` entry points: argument types that refuse bad
+"""Command-line building blocks for the console scripts: argument types that refuse bad
 input before any work, with a one-line message naming the argument and what is accepted.
 
 argparse turns an ``ArgumentTypeError`` raised by a ``type=`` function into
@@ -9,15 +9,17 @@ and exits with status 2, argparse's status for a bad command line.
 from __future__ import annotations
 
 import argparse
-import ast
 import importlib
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-# Lower-case words a command line may use for Python's True, False and None.
-WORDS = {"true": True, "false": False, "none": None, "null": None}
+from acl_env import io
+
+# The one key:value parser is acl_env.io's; its value parser and words, re-exported.
+from acl_env.io import WORDS as WORDS
+from acl_env.io import parse_value as parse_value
 
 
 class ArgumentParser(argparse.ArgumentParser):
@@ -87,23 +89,12 @@ def output_file(*suffixes: str) -> Callable[[str], Path]:
     return parse
 
 
-def parse_value(text: str) -> Any:
-    """A command-line value: a Python literal (``0.5``, ``[1, 2]``, ``{'climb': 1}``, ``True``),
-    ``true``/``false``/``none``/``null`` in any case, or else the string itself (``acl``)."""
-    if text.strip().lower() in WORDS:
-        return WORDS[text.strip().lower()]
-    try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError, TypeError, MemoryError, RecursionError):
-        return text
-
-
 def key_value(text: str) -> tuple[str, Any]:
-    """An argparse type: ``key:value`` (zoo style), the value through :func:`parse_value`."""
-    key, sep, raw = text.partition(":")
-    if not sep or not key.isidentifier():
-        raise argparse.ArgumentTypeError(f"expected key:value with a name as key, got {text!r}")
-    return key, parse_value(raw)
+    """An argparse type: ``key:value`` (zoo style), parsed by :func:`acl_env.io.parse_key_value`."""
+    try:
+        return io.parse_key_value(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def importable_module(text: str) -> str:
@@ -115,14 +106,13 @@ def importable_module(text: str) -> str:
     return text
 
 
-def pairs_to_dict(option: str, pairs: list[tuple[str, Any]] | None) -> dict[str, Any]:
-    """The ``key_value`` pairs of one option as a dict; a key given twice is refused."""
-    result: dict[str, Any] = {}
-    for key, value in pairs or ():
-        if key in result:
-            raise argparse.ArgumentTypeError(f"argument {option}: {key!r} given twice")
-        result[key] = value
-    return result
+def pairs_to_dict(option: str, pairs: Sequence[tuple[str, Any]] | None) -> dict[str, Any]:
+    """The :func:`key_value` pairs of one option as a dict; a key given twice is refused."""
+    keys = [key for key, _ in pairs or ()]
+    twice = next((key for key in keys if keys.count(key) > 1), None)
+    if twice is not None:
+        raise argparse.ArgumentTypeError(f"argument {option}: {twice!r} given twice")
+    return dict(pairs or ())
 
 
 def script(main: Callable[[], object]) -> Callable[[], None]:

@@ -4,6 +4,18 @@ The configs follow the rl-baselines3-zoo format (one YAML entry per env id, ``po
 ``normalize`` possibly as Python-looking strings), so the zoo itself can train from the same file.
 The zoo ``eval``s those strings; here they are parsed by :func:`parse_python_literal`, which only
 accepts literals, ``dict(...)`` calls and ``torch.nn`` / ``torch.optim`` class names.
+
+An experiment's recipe may be a delta over an entry of the shipped recipe
+(``acl_env/data/ppo.yml``), as MuJoCo Playground's parameter files are::
+
+    acl_env/ACLClimbNoRoll-v2:
+      base: acl_env/ACLClimbNoRoll-v3   # an entry of the shipped recipe
+      n_timesteps: 1000000             # top-level keys replace the base's
+      env_kwargs:                       # merged key by key into the base's env_kwargs:
+        squeeze: 0.0157                 # a value replaces the base's value whole,
+        domain_randomization: null      # null removes the key
+
+:func:`load_hyperparams` resolves it into a plain, full entry (what a run's ``config.yml`` holds).
 """
 
 from __future__ import annotations
@@ -11,7 +23,7 @@ from __future__ import annotations
 import ast
 import importlib
 import signal
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -19,10 +31,18 @@ import gymnasium
 import yaml
 
 import acl_env  # noqa: F401  (registers the acl_env/* ids)
-from acl_env.training.cli import parse_value
+from acl_env import shipped, tuned_gaits
+from acl_env.io import atomic_write
+from acl_env.io import parse_kv_pairs as parse_kv_pairs  # the one key:value parser, re-exported
 
 # Config keys consumed here rather than passed to the SB3 algorithm.
 NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs", "callback")
+# The key of a recipe entry that is a delta over an entry of the shipped recipe.
+BASE_KEY = "base"
+
+
+class RecipeError(ValueError):
+    """A recipe delta that does not resolve: an unknown base entry, a malformed override."""
 
 
 # --- parsing -------------------------------------------------------------------------------------
@@ -72,18 +92,6 @@ def parse_python_literal(text: str) -> Any:
     return _eval_node(ast.parse(text.strip(), mode="eval").body)
 
 
-def parse_kv_pairs(items: Iterable[str] | None) -> dict[str, Any]:
-    """Parse zoo-style ``key:value`` arguments (values by :func:`cli.parse_value`): a Python
-    literal, ``true``/``false``/``none``/``null`` in any case, or else the string (``acl``)."""
-    result: dict[str, Any] = {}
-    for item in items or ():
-        key, sep, raw = item.partition(":")
-        if not sep or not key:
-            raise ValueError(f"expected key:value, got {item!r}")
-        result[key] = parse_value(raw)
-    return result
-
-
 def linear_schedule(initial: float) -> Callable[[float], float]:
     """SB3 schedule decaying linearly from ``initial`` to 0 over training (zoo's ``lin_X``)."""
     from stable_baselines3.common.utils import LinearSchedule
@@ -95,19 +103,67 @@ def linear_schedule(initial: float) -> Callable[[float], float]:
 
 
 def load_hyperparams(path: str | Path, env_id: str) -> dict[str, Any]:
-    """Read the zoo-format YAML and return a copy of the entry for ``env_id``."""
+    """A copy of the zoo-format YAML's entry for ``env_id``; an entry with a ``base`` (a delta
+    over the shipped recipe, see the module docstring) is resolved into a full one.
+
+    ``KeyError`` naming the entries when ``env_id`` has none, :class:`RecipeError` when a delta
+    does not resolve."""
     with open(path) as f:
         configs = yaml.safe_load(f)
     if env_id not in configs:
         known = ", ".join(k for k in configs if not k.startswith("."))
         raise KeyError(f"no entry for {env_id!r} in {path} (entries: {known})")
-    return dict(configs[env_id])
+    entry = dict(configs[env_id])
+    if BASE_KEY in entry:
+        return resolve_delta(entry, f"{path} entry {env_id}")
+    return entry
+
+
+def resolve_delta(delta: Mapping[str, Any], source: str = "recipe") -> dict[str, Any]:
+    """The full entry a recipe delta stands for: its ``base``, an entry of the shipped recipe,
+    with the delta's top-level keys replacing the base's and its ``env_kwargs`` merged key by
+    key (a value replaces the base's whole, ``None`` removes the key)."""
+    overrides = dict(delta)
+    base = overrides.pop(BASE_KEY)
+    recipe = shipped.recipe_path()
+    with open(recipe) as f:
+        entries = {k: v for k, v in yaml.safe_load(f).items() if not k.startswith(".")}
+    if not isinstance(base, str) or base not in entries:
+        raise RecipeError(
+            f"{source}: base {base!r} is not an entry of the shipped recipe {recipe} "
+            f"(entries: {', '.join(entries)})"
+        )
+    if BASE_KEY in entries[base]:
+        raise RecipeError(f"{source}: base {base!r} is itself a delta")
+    resolved = dict(entries[base])
+    env_kwargs = overrides.pop("env_kwargs", None) or {}
+    if not isinstance(env_kwargs, Mapping):
+        raise RecipeError(f"{source}: env_kwargs must be a mapping, got {env_kwargs!r}")
+    resolved.update(overrides)
+    resolved["env_kwargs"] = merge_env_kwargs(
+        resolved.get("env_kwargs") or {}, env_kwargs, none_removes=True
+    )
+    return resolved
+
+
+def merge_env_kwargs(
+    base: Mapping[str, Any], overrides: Mapping[str, Any], none_removes: bool = False
+) -> dict[str, Any]:
+    """``base`` env kwargs with ``overrides`` merged key by key (with ``none_removes``, a None
+    override removes the key). Overriding ``squeeze`` or ``gait_kwargs`` of a base that names a
+    tuned gait by key (``tuned_gait``) changes that gait: its numbers are written out first
+    (:func:`acl_env.tuned_gaits.resolve`), unless the overrides name a tuned gait themselves."""
+    shape = set(tuned_gaits.GAIT_SHAPE_KWARGS) & set(overrides)
+    if shape and tuned_gaits.TUNED_GAIT_KWARG not in overrides:
+        base = tuned_gaits.resolve(base)
+    merged = {**base, **overrides}
+    return {k: v for k, v in merged.items() if not (none_removes and v is None)}
 
 
 def save_hyperparams(path: str | Path, env_id: str, hyperparams: dict[str, Any]) -> None:
-    """Write ``{env_id: hyperparams}`` in the same zoo format, so it can be trained from again."""
-    with open(path, "w") as f:
-        yaml.safe_dump({env_id: hyperparams}, f, sort_keys=False)
+    """Write ``{env_id: hyperparams}`` in the same zoo format, so it can be trained from again
+    (atomically: a reader sees the old file or the new one)."""
+    atomic_write(path, yaml.safe_dump({env_id: hyperparams}, sort_keys=False))
 
 
 def normalize_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any] | None:

@@ -1,6 +1,6 @@
 """Plot learning curves of training runs from their TensorBoard logs.
 
-    python train/plot_learning_curves.py runs/<run_a> runs/<run_b> --labels A B --out curves.png
+    acl-plot-curves runs/<run_a> runs/<run_b> --labels A B --out curves.png
 
 Panels: episode climb (m), contact slip per step (m), episode return (normalised reward) and the
 policy's action std, against environment steps. ``--json PATH`` also writes the curves.
@@ -10,7 +10,7 @@ policy counts its steps from 0, and starts where that one ended.
 
 from __future__ import annotations
 
-import argparse
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -19,8 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
+from acl_env.io import write_json
 from acl_env.training import cli
-from acl_env.training.runs import write_json
 
 PANELS = {
     "charts/episode_climb": "episode climb (m)",
@@ -44,8 +44,9 @@ def read_curves(run_dir: str | Path) -> dict[str, list[tuple[int, float]]]:
     return {tag: sorted(points.items()) for tag, points in curves.items()}
 
 
-def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: Sequence[str] | None = None) -> None:
+    """Entry point (``acl-plot-curves``): plot the runs' curves, optionally write them as JSON."""
+    parser = cli.ArgumentParser(prog="acl-plot-curves", description=(__doc__ or "").splitlines()[0])
     parser.add_argument("runs", nargs="+", help="run folders (with tb/ logs)")
     parser.add_argument("--labels", nargs="*", help="one label per run (default: folder names)")
     parser.add_argument("--out", required=True, help="image file")

@@ -47,15 +47,10 @@ def read_policy_folder(path: str | Path) -> PolicyFolder:
     path = Path(path)
     if not path.is_dir():
         raise ValueError(f"{path} is not a folder")
-    try:
-        config = run_config(path)
-    except Exception as error:  # YAML syntax, an empty or non-mapping file, ...
-        raise ValueError(f"{path / CONFIG_FILE} is not a zoo config ({error})") from error
+    config = run_config(path)  # ValueError naming the file unless a zoo config of one entry
     if config is None:
         raise ValueError(f"{path} has no {CONFIG_FILE}: it defines the policy's env")
     env_id, hyperparams = config
-    if not isinstance(env_id, str) or not isinstance(hyperparams, dict):
-        raise ValueError(f"{path / CONFIG_FILE} must map one env id to its hyperparameters")
     if env_id not in gymnasium.registry:
         raise ValueError(
             f"{path / CONFIG_FILE} names env {env_id!r}, which is not registered "

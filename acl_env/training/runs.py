@@ -4,16 +4,17 @@ from __future__ import annotations
 
 import io
 import json
-import os
 import pickle
-import tempfile
 import zipfile
 from pathlib import Path
 from typing import Any
 
 import yaml
 
-from acl_env.evaluation import jsonable
+# The one JSON writer and reader are acl_env.io's, re-exported here for the commands.
+from acl_env.io import atomic_write as atomic_write
+from acl_env.io import read_json as read_json
+from acl_env.io import write_json as write_json
 
 MODEL_FILE = "model.zip"
 VECNORMALIZE_FILE = "vecnormalize.pkl"
@@ -66,56 +67,23 @@ def latest_model(run_dir: str | Path) -> tuple[Path, Path | None]:
 
 
 def run_config(run_dir: str | Path) -> tuple[str, dict[str, Any]] | None:
-    """``(env_id, hyperparams)`` from a run folder's ``config.yml``, or None if it has none."""
+    """``(env_id, hyperparams)`` from a run folder's ``config.yml`` (a zoo config with one env
+    entry), or None if it has none; ``ValueError`` naming the file when it is not such a config."""
     path = Path(run_dir) / CONFIG_FILE
     if not path.is_file():
         return None
-    with open(path) as f:
-        configs = yaml.safe_load(f)
-    ((env_id, hyperparams),) = configs.items()
-    return env_id, dict(hyperparams)
-
-
-# --- atomic writes -------------------------------------------------------------------------------
-
-
-_UMASK = os.umask(0)
-os.umask(_UMASK)
-
-
-def atomic_write(path: str | Path, data: bytes | str) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same folder, then rename.
-
-    A reader (or a second Ctrl-C) sees either the old file or the new one, never half of one.
-    """
-    path = Path(path)
-    raw = data.encode() if isinstance(data, str) else data
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        os.fchmod(fd, 0o666 & ~_UMASK)  # mkstemp makes 0600; give the usual permissions
-        with os.fdopen(fd, "wb") as f:
-            f.write(raw)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def write_json(path: str | Path, document: Any, indent: int | None = 2) -> None:
-    """``document`` as strict JSON (numpy values as numbers, NaN and inf as null; see
-    :func:`acl_env.evaluation.jsonable`), written atomically: the one writer of every JSON
-    record and figure file the package and its scripts produce."""
-    atomic_write(path, json.dumps(jsonable(document), indent=indent) + "\n")
-
-
-def read_json(path: str | Path) -> Any:
-    """A JSON file's content; ``ValueError`` naming the file when it is not JSON."""
-    try:
-        return json.loads(Path(path).read_text())
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path} is not valid JSON ({error})") from None
+        document = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as error:
+        raise ValueError(f"{path} is not YAML ({str(error).splitlines()[0]})") from None
+    if not (
+        isinstance(document, dict)
+        and len(document) == 1
+        and isinstance(next(iter(document.values())), dict)
+    ):
+        raise ValueError(f"{path} is not a zoo config with one env entry (empty or corrupt)")
+    ((env_id, hyperparams),) = document.items()
+    return str(env_id), dict(hyperparams)
 
 
 def save_model(model: Any, model_path: str | Path, vecnormalize_path: str | Path) -> None:

@@ -18,7 +18,6 @@ load hits both sides alike.
 
 from __future__ import annotations
 
-import argparse
 import time
 
 import gymnasium as gym
@@ -29,8 +28,7 @@ from tqdm import tqdm
 from acl_env import ACL_CLIMB_ID
 from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.acl_climb import SLIP_SAMPLES
-from acl_env.training import cli
-from acl_env.training.runs import write_json
+from acl_env.scripts import make_parser, timed_steps, write_output
 
 V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -95,15 +93,7 @@ def steps_per_second(steps: int, rounds: int) -> dict[str, float]:
     rates: dict[str, list[float]] = {name: [] for name in envs}
     for _ in tqdm(range(rounds), desc="steps/s", leave=False):
         for name, env in envs.items():
-            action = np.zeros(env.action_space.shape, dtype=np.float32)
-            elapsed = 0.0
-            for _ in range(steps):
-                start = time.perf_counter()
-                _, _, terminated, truncated, _ = env.step(action)
-                elapsed += time.perf_counter() - start
-                if terminated or truncated:
-                    env.reset()
-            rates[name].append(steps / elapsed)
+            rates[name].append(steps / timed_steps(env, steps))
     out = {f"steps_per_s_{name}": float(np.median(r)) for name, r in rates.items()}
     out["speedup_default_over_2ms"] = float(
         np.median(np.array(rates["default"]) / np.array(rates["v0_2ms"]))
@@ -135,13 +125,10 @@ def vector_scaling(steps: int, rounds: int) -> dict[str, float]:
 
 
 def main(argv: list[str] | None = None) -> dict[str, float]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = make_parser(__doc__)
     parser.add_argument("--steps", type=int, default=400, help="env steps per round and side")
     parser.add_argument("--rounds", type=int, default=7, help="alternating rounds (median)")
     parser.add_argument("--skip-vector", action="store_true", help="skip the process scaling")
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the figures to this JSON file"
-    )
     args = parser.parse_args(argv)
 
     figures: dict[str, float] = {"default_timestep_ms": 1e3 * PHYSICS_TIMESTEP}
@@ -154,8 +141,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     for key, value in figures.items():
         if not isinstance(value, list):
             print(f"{key:34s} {value:10.3f}")
-    if args.json:
-        write_json(args.json, figures)
+    write_output(args.json, figures)
     return figures
 
 

@@ -18,7 +18,7 @@ from collections.abc import Callable
 import numpy as np
 
 from acl_env.gait import ACLGait, Gait, RollingHelixGait
-from acl_env.gait.__main__ import cycle_fit_rms
+from acl_env.gait.summary import cycle_fit_rms
 
 ACL_CYCLE_BUDGET_S = 0.050
 REPEATS = 10

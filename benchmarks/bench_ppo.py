@@ -1,6 +1,6 @@
 """PPO training throughput: env steps/s of the whole training loop, and where the time goes.
 
-Runs short trainings of the shipped config (``train/configs/ppo.yml``) and of variants given as
+Runs short trainings of the shipped recipe (``acl_env/data/ppo.yml``) and of variants given as
 extra ``acl-train`` arguments, interleaved (A B A B ...) so that load from other processes hits
 all alike, and prints the median env steps/s per variant with the breakdown that the trainer
 records in ``summary.json``: stepping the envs (workers + transfer), policy inference, the rest
@@ -13,14 +13,14 @@ of the rollout (buffer, callbacks, advantages), gradient updates, other (logging
 
 from __future__ import annotations
 
-import argparse
-import json
 import os
 import shlex
 import statistics
 import tempfile
 from pathlib import Path
 
+from acl_env.io import read_json
+from acl_env.scripts import make_parser
 from acl_env.training import trainer
 
 PARTS = ("env_step", "policy_inference", "rollout_other", "gradient_update", "other")
@@ -31,11 +31,11 @@ def run_once(extra: list[str], steps: int, run_root: Path) -> dict:
     argv = ["--n-timesteps", str(steps), "--run-dir", str(run_root), "--no-progress-bar", *extra]
     argv += ["--checkpoint-freq", str(10**9)]
     run_dir = trainer.train(argv)
-    return json.loads((run_dir / "summary.json").read_text())["segments"][-1]
+    return read_json(run_dir / "summary.json")["segments"][-1]
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = make_parser(__doc__, json=None)
     parser.add_argument("--steps", type=int, default=20_000, help="env steps per run")
     parser.add_argument("--rounds", type=int, default=2, help="runs per variant (interleaved)")
     parser.add_argument(

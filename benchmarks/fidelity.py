@@ -1,7 +1,7 @@
 """Physics fidelity against cost: open-loop climbing under candidate physics settings vs 1 ms.
 
 ``python benchmarks/fidelity.py [--seeds 3] [--cycles 2] [--settings NAME ...] [--workers 1]
-[--json PATH] [--figure docs/fidelity.png]``
+[--json PATH] [--figure PATH]``
 
 Every panel condition (gait, pole, skin, springs, a fixed random residual) is rolled out for
 ``--cycles`` gait cycles per seed under every candidate setting (physics step, friction cone,
@@ -18,7 +18,6 @@ speed-up is against the v0 2 ms step.
 
 from __future__ import annotations
 
-import argparse
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -34,8 +33,7 @@ from acl_env.constants import FIDELITY_TOLERANCES, PHYSICS_TIMESTEP
 from acl_env.envs import termination
 from acl_env.evaluation import run_episode
 from acl_env.model import apply_physics_options
-from acl_env.training import cli
-from acl_env.training.runs import write_json
+from acl_env.scripts import make_parser, save_figure, timed_steps, use_agg, write_outputs
 
 
 @dataclass(frozen=True)
@@ -157,14 +155,7 @@ def step_costs(settings: list[str], steps: int, rounds: int) -> dict[str, float]
     costs: dict[str, list[float]] = {name: [] for name in settings}
     for _ in tqdm(range(rounds), desc="step cost", leave=False):
         for name, env in envs.items():
-            action = np.zeros(env.action_space.shape, dtype=np.float32)
-            elapsed = 0.0
-            for _ in range(steps):
-                start = time.thread_time()
-                _, _, terminated, truncated, _ = env.step(action)
-                elapsed += time.thread_time() - start
-                if terminated or truncated:
-                    env.reset(seed=0)
+            elapsed = timed_steps(env, steps, time.thread_time, reset_seed=0)
             costs[name].append(1e3 * elapsed / steps)
     return {name: float(np.median(c)) for name, c in costs.items()}
 
@@ -245,11 +236,7 @@ def print_tables(summary: dict[str, Any]) -> None:
 def plot(summary: dict[str, Any], path: Path) -> None:
     """Worst relative error (climb, slip, energy) against speed-up, one point per setting and
     metric; filled markers pass every row, hollow ones do not."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     fig, ax = plt.subplots(figsize=(8.0, 5.0))
     styles = {"climb": ("o", "C0"), "slip": ("s", "C1"), "energy": ("^", "C2")}
     settings = [(name, s) for name, s in summary.items() if name != REFERENCE]
@@ -284,13 +271,11 @@ def plot(summary: dict[str, Any], path: Path) -> None:
     ax.set_ylabel("worst error over the 7 conditions vs 1 ms (%)")
     ax.set_title("Open-loop fidelity against cost (dotted: 2 % climb, 15 % slip and energy)")
     ax.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=130)
+    save_figure(fig, path, 130, tight=True)
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = make_parser(__doc__, plot=True, plot_names=("--figure", "--plot"))
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--cycles", type=int, default=2)
     parser.add_argument(
@@ -301,10 +286,6 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     )
     parser.add_argument("--cost-steps", type=int, default=100, help="steps per cost block")
     parser.add_argument("--cost-rounds", type=int, default=7, help="cost rounds (median)")
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the summary to this JSON file"
-    )
-    parser.add_argument("--figure", help="write the error-vs-speed-up figure to this PNG")
     args = parser.parse_args(argv)
     settings = list(dict.fromkeys([REFERENCE, BASELINE, *(args.settings or SETTINGS)]))
     tasks = [
@@ -338,10 +319,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ]
     if default:
         print(f"The env's default physics step ({1e3 * PHYSICS_TIMESTEP:g} ms) is {default[0]!r}.")
-    if args.json:
-        write_json(args.json, summary)
-    if args.figure:
-        plot(summary, Path(args.figure))
+    write_outputs(args, summary, plot)
     return summary
 
 

@@ -1,7 +1,7 @@
 """Each module's touched arc on the non-rolling task: open loop against a policy (issue 11).
 
-``python benchmarks/noroll_arc.py [--policy FOLDER] [--episodes 5] [--out docs/noroll_arc.png]
-[--json PATH] [--env-kwargs KEY:VALUE ...]``
+``python benchmarks/noroll_arc.py [--policy FOLDER] [--episodes 5] [--plot PATH] [--json PATH]
+[--env-kwargs KEY:VALUE ...]`` (``--out`` is ``--plot``; default ``runs/noroll_arc.png``)
 
 Controllers, episode ``i`` of each resetting with seed ``seed + i``
 (:func:`acl_env.training.evaluate.run_controllers`, :func:`acl_env.evaluation.run_episode`):
@@ -9,9 +9,9 @@ Controllers, episode ``i`` of each resetting with seed ``seed + i``
 * ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v3`` with a zero action (the policy's env and
   its non-training kwargs when ``--policy`` is given, its gait included, so both run under the
   same conditions);
-* ``open_loop_tuned_noroll``: the tuner's non-rolling gait (``acl_noroll`` in
-  ``train/configs/tuned_gaits.yml``, ``acl_noroll_v2`` for a policy on v2) on the same env,
-  when it differs from the gait ``open_loop_noroll`` plays;
+* ``open_loop_tuned_noroll``: the tuner's non-rolling gait (``acl_noroll`` of the shipped tuned
+  gaits, :mod:`acl_env.tuned_gaits`; ``acl_noroll_v2`` for a policy on v2) on the same env, when
+  it differs from the gait ``open_loop_noroll`` plays;
 * ``policy``: the policy folder (deterministic, VecNormalize frozen), with ``--policy``;
 * ``open_loop_rolling_acl``: the rolling ACL (``acl_env/ACLClimb-v1``), for reference.
 
@@ -35,17 +35,16 @@ import numpy as np
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID
 from acl_env.evaluation import Episode
-from acl_env.training import cli
-from acl_env.training.evaluate import (
+from acl_env.evaluation.baselines import (
     DEFAULT_TUNED_GAITS,
     Controller,
     evaluation_env_kwargs,
-    make_pool,
-    run_controllers,
     tuned_gait,
 )
+from acl_env.evaluation.runner import evaluate
+from acl_env.scripts import RUNS, make_parser, save_figure, seeds, use_agg, write_output
+from acl_env.training import cli
 from acl_env.training.policy import read_policy_folder
-from acl_env.training.runs import write_json
 
 ARC_TARGET_DEG = 90.0  # issue 11: at most 90 degrees on every module, every episode
 
@@ -94,11 +93,7 @@ def arc_summary(episodes: list[Episode]) -> dict[str, Any]:
 
 def plot(summaries: dict[str, dict[str, Any]], path: Path) -> None:
     """Bars of each module's touched arc; below, where each module touched, per controller."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     names = list(summaries)
     fig = plt.figure(figsize=(11, 3.2 + 2.6 * len(names)), constrained_layout=True)
     grid = fig.add_gridspec(1 + len(names), 1, height_ratios=[1.4] + [1.0] * len(names))
@@ -138,39 +133,26 @@ def plot(summaries: dict[str, dict[str, Any]], path: Path) -> None:
         axh.set_title(f"{name}: where the pole touched (share of episodes)", fontsize=9)
         fig.colorbar(image, ax=axh, fraction=0.02)
     axh.set_xlabel("module (0 = head)")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, 110)
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = cli.ArgumentParser(prog="noroll_arc.py", description=__doc__.splitlines()[0])
+    parser = make_parser(
+        __doc__, plot=True, plot_names=("--plot", "--out"), plot_default=RUNS / "noroll_arc.png",
+        seed=0, episodes=5, workers=2, env_kwargs=True,
+    )  # fmt: skip
     parser.add_argument("--policy", type=cli.existing_dir, help="policy or run folder")
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=5)
-    parser.add_argument("--seed", type=cli.int_at_least(0), default=0)
-    parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
-    parser.add_argument(
-        "--env-kwargs", type=cli.key_value, nargs="*", default=[], metavar="KEY:VALUE"
-    )
     parser.add_argument("--tuned-gaits", type=Path, default=DEFAULT_TUNED_GAITS)
-    parser.add_argument(
-        "--out", type=cli.output_file(".png", ".pdf", ".svg"), default=Path("docs/noroll_arc.png")
-    )
-    parser.add_argument("--json", type=cli.output_file(".json"), help="write the arcs here")
     args = parser.parse_args(argv)
+    overrides = args.env_kwargs
     try:
-        overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
         controllers, notes = build(args.policy, overrides, args.tuned_gaits)
         for controller in controllers:
             controller.make_env().close()  # bad kwargs or folder: refused before any episode
     except (ValueError, TypeError) as error:
         parser.error(str(error))
-    seeds = list(range(args.seed, args.seed + args.episodes))
-    pool = make_pool(min(args.workers, len(controllers) * len(seeds)))
-    try:
-        results = run_controllers(controllers, seeds, pool)
-    finally:
-        if pool is not None:
-            pool.shutdown()
+    played = seeds(args)
+    results = evaluate(controllers, played, min(args.workers, len(controllers) * len(played)))
     summaries = {name: arc_summary(episodes) for name, episodes in results.items()}
     for name, s in summaries.items():
         largest = s["largest_arc_deg"]
@@ -178,21 +160,19 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         print(
             f"{name:24s} largest touched arc {largest.mean():5.0f} deg mean, {largest.max():3.0f}"
             f" max; modules over 90: {s['modules_over_target'] or 'none'}; climb per gait cycle"
-            f" {climb:.4f} m; falls {s['falls']}, rolled {s['rolled']} of {len(seeds)}"
+            f" {climb:.4f} m; falls {s['falls']}, rolled {s['rolled']} of {len(played)}"
         )
     for note in notes:
         print(note)
-    plot(summaries, args.out)
-    print(f"wrote {args.out}")
+    plot(summaries, args.plot)
     document = {
         "controllers": summaries,
         "env_ids": {c.name: c.env_id for c in controllers},
         "env_kwargs": {c.name: c.env_kwargs for c in controllers},
-        "seeds": seeds,
+        "seeds": played,
         "notes": notes,
     }
-    if args.json is not None:
-        write_json(args.json, document, indent=1)
+    write_output(args.json, document, indent=1)
     return document
 
 

@@ -8,7 +8,6 @@ any module (:mod:`acl_env.evaluation`).
 
 from __future__ import annotations
 
-import argparse
 from typing import Any
 
 import gymnasium
@@ -17,8 +16,8 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.scripts import make_parser, write_output
 from acl_env.training import cli
-from acl_env.training.runs import write_json
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (1 roll/cycle)": (ACL_CLIMB_ID, {}),
@@ -29,14 +28,10 @@ COLUMNS = ("climb_per_cycle_m", "slip_per_cycle_m", "touched_arc_deg")
 
 
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
-    )
+    parser = make_parser(__doc__)
+    # a standard deviation needs two
+    parser.add_argument("--seeds", type=cli.int_at_least(2), default=5, help="episodes per gait")
     args = parser.parse_args(argv)
-    if args.seeds < 2:
-        parser.error("--seeds must be at least 2 (a standard deviation needs two)")
     table = {}
     for name, (env_id, kwargs) in GAITS.items():
         env = gymnasium.make(env_id, **kwargs)
@@ -61,8 +56,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             f"| {row['touched_arc_deg']:.0f} ± {row['touched_arc_deg_std']:.0f} "
             f"| {row['falls']}/{row['n']} |"
         )
-    if args.json:
-        write_json(args.json, table)
+    write_output(args.json, table)
     return table
 
 

@@ -27,7 +27,6 @@ one of its two links).
 
 from __future__ import annotations
 
-import argparse
 import multiprocessing as mp
 import sys
 from collections.abc import Sequence
@@ -39,8 +38,7 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
-from acl_env.training import cli
-from acl_env.training.runs import write_json
+from acl_env.scripts import make_parser, save_figure, use_agg, write_output
 
 ACL_ID = ACL_CLIMB_ID
 HELIX_ID = ROLLING_HELIX_CLIMB_ID
@@ -254,11 +252,7 @@ def table2_markdown(table2: dict[str, dict[str, float | int]]) -> str:
 
 
 def plot(path: Path, rows: Sequence[Rollout], table2: dict[str, dict[str, float | int]]) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), gridspec_kw={"width_ratios": [3, 2, 1.3]})
     idx = np.arange(1, len(rows) + 1)
     ax = axes[0]
@@ -294,9 +288,7 @@ def plot(path: Path, rows: Sequence[Rollout], table2: dict[str, dict[str, float 
     ax.set_ylim(axes[0].get_ylim())
     ax.set_title(f"Table 2 (n = {table2['acl']['n']}, mean +- std)")
     ax.legend(fontsize=8, loc="lower right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
 def setting_label(row: Rollout) -> str:
@@ -308,14 +300,8 @@ def setting_label(row: Rollout) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the tables as JSON here"
-    )
-    parser.add_argument("--plot", type=Path, help="write a figure of both tables here")
+    parser = make_parser(__doc__, plot=True, seed=0, workers=2)
     parser.add_argument("--trials", type=int, default=8, help="Table 2 rollouts per gait (>= 5)")
-    parser.add_argument("--seed", type=int, default=0, help="reset seed of Table 1, first of 2")
-    parser.add_argument("--workers", type=int, default=2, help="parallel processes")
     parser.add_argument(
         "--randomize-physics",
         action="store_true",
@@ -368,13 +354,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         + ("" if not any(r.fell or r.unstable for r in results) else "; some rollouts fell")
     )
 
-    if args.json:
-        write_json(args.json, {"table1": table1, "table2": table2})
-        print(f"wrote {args.json}")
+    write_output(args.json, {"table1": table1, "table2": table2})
     if args.plot:
-        args.plot.parent.mkdir(parents=True, exist_ok=True)
         plot(args.plot, table1_rows, table2)
-        print(f"wrote {args.plot}")
     return 0
 
 

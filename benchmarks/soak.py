@@ -12,7 +12,6 @@ flat memory. MuJoCo appends its warnings to ``MUJOCO_LOG.TXT`` in the working fo
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import resource
@@ -26,8 +25,7 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
-from acl_env.training import cli
-from acl_env.training.runs import write_json
+from acl_env.scripts import make_parser, write_output
 
 CONFIGS: list[tuple[str, dict[str, Any]]] = [
     (ACL_CLIMB_ID, {}),
@@ -156,12 +154,8 @@ def soak(steps: int, seed: int, progress: bool = True) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = make_parser(__doc__, seed=0)
     parser.add_argument("--steps", type=int, default=100_000, help="random-action env steps")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the actions and resets")
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the figures to this JSON file"
-    )
     args = parser.parse_args(argv)
     if args.steps < 1:
         parser.error(f"--steps must be >= 1, got {args.steps}")
@@ -175,8 +169,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         print(f"{key:22s} {shown}")
     for error in figures["errors"]:
         print(error)
-    if args.json:
-        write_json(args.json, figures)
+    write_output(args.json, figures)
     return figures
 
 

@@ -1,4 +1,5 @@
-"""benchmarks/action_smoothing.py and the physics overrides it applies (acl_env.model)."""
+"""experiments/noroll_climb_gait/action_smoothing.py and the physics overrides it applies
+(acl_env.model)."""
 
 from __future__ import annotations
 
@@ -12,17 +13,19 @@ import mujoco
 import numpy as np
 import pytest
 
+from acl_env import shipped
 from acl_env.constants import CONTACT_TIMECONST, POLE_GEOM, shell_name
 from acl_env.model import apply_physics_options, build_model
 
-ROOT = Path(__file__).resolve().parents[1]
-SHIPPED_NOROLL = ROOT / "train" / "policies" / "acl_climb_noroll_ppo"
-TWO_STAGE_NOROLL = ROOT / "train" / "policies" / "ablations" / "noroll_two_stage"
+ROOT = Path(__file__).resolve().parent.parent
+SCRIPT = ROOT / "experiments" / "noroll_climb_gait" / "action_smoothing.py"
+SHIPPED_NOROLL = shipped.policy_dir("acl_climb_noroll_ppo")
+TWO_STAGE_NOROLL = ROOT / "experiments" / "noroll_two_stage" / "noroll_two_stage"
 
 
 def _smoothing() -> dict[str, Any]:
-    """The functions of benchmarks/action_smoothing.py (a script, not a module of the package)."""
-    return runpy.run_path(str(ROOT / "benchmarks" / "action_smoothing.py"), run_name="smoothing")
+    """The functions of the action-smoothing script (not a module of the package)."""
+    return runpy.run_path(str(SCRIPT), run_name="smoothing")
 
 
 def test_contact_timeconst_reaches_shells_and_pole_and_nothing_else() -> None:
@@ -102,7 +105,7 @@ def test_shipped_noroll_policy_does_not_flip_its_action(folder: Path, flips: boo
     import gymnasium as gym
 
     from acl_env.evaluation import run_episode
-    from acl_env.training.evaluate import evaluation_env_kwargs
+    from acl_env.evaluation.baselines import evaluation_env_kwargs
     from acl_env.training.policy import load_policy, read_policy_folder
 
     policy = read_policy_folder(folder)

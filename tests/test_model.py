@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from acl_env import shipped, tuned_gaits
 from acl_env.constants import (
     CONTACT_TIMECONST,
     IMPRATIO,
@@ -104,3 +105,24 @@ def test_wheel_ships_the_assets(tmp_path: Path) -> None:
     ).stdout.split()
     assert out[0].startswith(str(target)) and out[1].startswith(str(target))
     assert out[2] == "7"  # world + 6 links
+    # The shipped data too, reached inside the install (no path into a repository): the recipe,
+    # the tuned gaits the registrations read, and every shipped policy's files.
+    probe = (
+        "import gymnasium as gym, acl_env; from acl_env import shipped, tuned_gaits; "
+        "print(shipped.recipe_path()); print(tuned_gaits.shipped_path()); "
+        "print(*[shipped.policy_dir(n) / 'model.zip' for n in shipped.list_policies()]); "
+        "print(gym.make(acl_env.ACL_CLIMB_NOROLL_ID).unwrapped.squeeze)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", probe],
+        cwd=tmp_path,
+        env={"PYTHONPATH": str(target), "PATH": "/usr/bin:/bin", "MUJOCO_GL": "egl"},
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
+    *files, squeeze = out
+    assert len(files) == 2 + len(shipped.list_policies())
+    for file in files:
+        assert file.startswith(str(target)) and Path(file).is_file(), file
+    assert float(squeeze) == tuned_gaits.gait_shape("acl_noroll")["squeeze"]

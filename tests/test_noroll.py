@@ -10,7 +10,6 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 import pytest
-import yaml
 from gymnasium.utils.env_checker import check_env
 
 from acl_env import (
@@ -19,12 +18,18 @@ from acl_env import (
     ACL_CLIMB_NOROLL_V2_ID,
     NOROLL_KWARGS,
     NOROLL_V2_KWARGS,
+    shipped,
+    tuned_gaits,
 )
 from acl_env.evaluation import run_episode, summarize, zero_policy
 
-ROOT = Path(__file__).resolve().parents[1]
-TUNED_GAITS = ROOT / "train" / "configs" / "tuned_gaits.yml"
-SHIPPED_NOROLL = ROOT / "train" / "policies" / "acl_climb_noroll_ppo"
+EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
+TUNED_GAITS = tuned_gaits.shipped_path()
+SHIPPED_NOROLL = shipped.policy_dir("acl_climb_noroll_ppo")
+# The tuned-gaits files of the non-rolling studies (experiments/<topic>/tuned_gaits_*.json).
+CLIMB_GAITS = EXPERIMENTS / "noroll_climb_gait" / "tuned_gaits_noroll_climb.json"
+POLE065_GAITS = EXPERIMENTS / "noroll_v3" / "tuned_gaits_noroll_climb_pole065.json"
+CLIMB_V2_GAITS = EXPERIMENTS / "noroll_v2_gait" / "tuned_gaits_noroll_climb_v2_local.json"
 
 SHORT = {"steps_per_cycle": 40, "cycles_per_episode": 2}  # 40 keyframes: ~9 deg of roll per step
 
@@ -107,10 +112,9 @@ def test_evaluation_judges_the_noroll_policy_on_its_own_env(tmp_path) -> None:
     """A policy of the non-rolling task is compared with the open loops on the same env id (zero
     action, so the roll term and roll_limit apply to them too), the tuned non-rolling gait
     included; every controller's env accepts the task's reward weights and runs."""
-    import yaml
-
     from acl_env import ROLLING_HELIX_CLIMB_ID
-    from acl_env.training.evaluate import build_controllers, run_controllers
+    from acl_env.evaluation.baselines import build_controllers
+    from acl_env.evaluation.runner import run_controllers
     from acl_env.training.policy import PolicyFolder
 
     weights = {"climb": 1.0, "slip": 0.25, "roll": 0.05}
@@ -122,8 +126,8 @@ def test_evaluation_judges_the_noroll_policy_on_its_own_env(tmp_path) -> None:
         "reward_weights": weights,
         "trials": 3,
     }
-    tuned = tmp_path / "tuned.yml"
-    tuned.write_text(yaml.safe_dump({"acl_noroll": entry}))
+    tuned = tmp_path / "tuned.json"
+    tuned_gaits.write(tuned, "acl_noroll", entry)
     env_kwargs = {**SHORT, "reward_weights": weights, "domain_randomization": True}
     hyperparams = {"env_kwargs": env_kwargs}
     folder = PolicyFolder(tmp_path, ACL_CLIMB_NOROLL_ID, hyperparams, tmp_path / "m.zip", None)
@@ -146,7 +150,7 @@ def test_noroll_policy_on_another_gait_meets_that_gait_and_the_tuned_one(tmp_pat
     """A non-rolling policy trained on a gait other than the tuned one (no cadence action) is
     judged against its own gait open loop as well as the tuned and registered gaits; on the tuned
     gait itself the two would be one, and its own-gait controller is skipped with a note."""
-    from acl_env.training.evaluate import POLICY_GAIT, build_controllers
+    from acl_env.evaluation.baselines import POLICY_GAIT, build_controllers
     from acl_env.training.policy import PolicyFolder
 
     weights = NOROLL_KWARGS["reward_weights"]
@@ -162,7 +166,7 @@ def test_noroll_policy_on_another_gait_meets_that_gait_and_the_tuned_one(tmp_pat
     assert own.env_id == ACL_CLIMB_NOROLL_ID and own.policy_dir is None
     assert own.env_kwargs["gait_kwargs"] == gait and own.env_kwargs["squeeze"] == 0.006
     assert "domain_randomization" not in own.env_kwargs
-    tuned = yaml.safe_load(TUNED_GAITS.read_text())["acl_noroll"]["env_kwargs"]
+    tuned = tuned_gaits.entry("acl_noroll")["env_kwargs"]
     assert by_name["open_loop_tuned"].env_kwargs["gait_kwargs"] == tuned["gait_kwargs"], notes
     assert "gait_kwargs" not in by_name["open_loop_acl"].env_kwargs  # the registered gait
 
@@ -176,16 +180,14 @@ def test_noroll_policy_on_another_gait_meets_that_gait_and_the_tuned_one(tmp_pat
 
 
 def test_ppo_config_entry_builds_the_noroll_env() -> None:
-    """train/configs/ppo.yml's entry: the registered roll weight (the climb as objective, slip 0)
-    and the action-rate term that keeps the residual from chattering, initial joint noise <= 0.03
-    rad, no cadence action; its env kwargs build the env."""
+    """The shipped recipe's entry (acl_env/data/ppo.yml): the registered roll weight (the climb as
+    objective, slip 0) and the action-rate term that keeps the residual from chattering, initial
+    joint noise <= 0.03 rad, no cadence action; its env kwargs build the env."""
     import math
-    from pathlib import Path
 
     from acl_env.training import config
 
-    path = Path(__file__).resolve().parents[1] / "train" / "configs" / "ppo.yml"
-    hyperparams = config.load_hyperparams(path, ACL_CLIMB_NOROLL_ID)
+    hyperparams = config.load_hyperparams(shipped.recipe_path(), ACL_CLIMB_NOROLL_ID)
     kwargs = config.algo_kwargs(hyperparams)
     env_kwargs = hyperparams["env_kwargs"]
     assert env_kwargs["reward_weights"] == {
@@ -235,16 +237,16 @@ def test_a_copy_continues_the_roll_measure() -> None:
 def test_registered_gait_is_the_tuners_noroll_entry(
     env_id: str, registered: dict, key: str
 ) -> None:
-    """Each version's registered kwargs copy the tuner's entry for it (the package does not read
-    train/): the env's zero action and evaluation's tuned open loop for a policy on that version
+    """Each version's registered kwargs are the tuner's entry for it in the shipped tuned gaits:
+    the env's zero action and evaluation's tuned open loop for a policy on that version
     must be the same gait and reward. Both studies ran on v2 (a trial sets the whole gait); v3
     also loosens the squeeze on thin poles, which the tuned open loop gets from the env it runs on
     (the policy's)."""
-    from acl_env.training.evaluate import default_tuned_key
+    from acl_env.evaluation.baselines import default_tuned_key
 
     assert default_tuned_key(env_id, non_rolling=True) == key
     assert gym.spec(env_id).kwargs == registered
-    tuned = yaml.safe_load(TUNED_GAITS.read_text())[key]
+    tuned = tuned_gaits.entry(key)
     assert tuned["env_id"] == ACL_CLIMB_NOROLL_V2_ID
     assert registered["squeeze"] == tuned["env_kwargs"]["squeeze"]
     assert registered["gait_kwargs"] == tuned["env_kwargs"]["gait_kwargs"]
@@ -265,14 +267,14 @@ def test_a_policy_is_judged_against_its_versions_tuned_gait(
 ) -> None:
     """A policy on v3 meets v3's tuned gait as open_loop_tuned; one trained on v2 still meets v2's,
     the gait its published evaluation played, and v2's registered gait as open_loop_acl."""
-    from acl_env.training.evaluate import build_controllers
+    from acl_env.evaluation.baselines import build_controllers
     from acl_env.training.policy import PolicyFolder
 
     trained = {**SHORT, "reward_weights": NOROLL_KWARGS["reward_weights"]}
     folder = PolicyFolder(tmp_path, env_id, {"env_kwargs": trained}, tmp_path / "m.zip", None)
     controllers, notes = build_controllers(folder, {}, None, TUNED_GAITS)
     by_name = {c.name: c for c in controllers}
-    entry = yaml.safe_load(TUNED_GAITS.read_text())[key]
+    entry = tuned_gaits.entry(key)
     assert by_name["open_loop_tuned"].env_id == env_id
     assert (
         by_name["open_loop_tuned"].env_kwargs["gait_kwargs"] == entry["env_kwargs"]["gait_kwargs"]
@@ -285,24 +287,24 @@ def test_gait_tuned_on_a_thin_pole_is_played_as_tuned_there(tmp_path) -> None:
     """A gait a study tuned on given poles (here on v2, before squeeze_slope) keeps the squeeze it
     was tuned with when a v3 policy is judged against it: squeeze_slope 0, not v3's 0.85. A gait
     tuned on the default pole, where the slope does not act, takes the policy env's slope."""
-    from acl_env.training.evaluate import build_controllers
+    from acl_env.evaluation.baselines import build_controllers
     from acl_env.training.policy import PolicyFolder
 
-    configs = TUNED_GAITS.parent
     trained = {**SHORT, "reward_weights": NOROLL_KWARGS["reward_weights"]}
     folder = PolicyFolder(
         tmp_path, ACL_CLIMB_NOROLL_ID, {"env_kwargs": trained}, tmp_path / "m", None
     )
-    thin = configs / "tuned_gaits_noroll_climb_pole065.yml"
+    thin = POLE065_GAITS
     controllers, _ = build_controllers(folder, {}, None, thin, "acl_noroll_climb_pole065")
     tuned = {c.name: c for c in controllers}["open_loop_tuned"]
     assert tuned.env_id == ACL_CLIMB_NOROLL_ID and tuned.env_kwargs["squeeze_slope"] == 0.0
     env = tuned.make_env(pole_radius=0.065)
     env.reset(seed=0)
-    squeeze = yaml.safe_load(thin.read_text())["acl_noroll_climb_pole065"]["env_kwargs"]["squeeze"]
+    squeeze = tuned_gaits.entry("acl_noroll_climb_pole065", thin)["env_kwargs"]["squeeze"]
     assert env.unwrapped.squeeze_at(0.065) == squeeze
-    climb = configs / "tuned_gaits_noroll_climb_v2_local.yml"
-    controllers, _ = build_controllers(folder, {}, None, climb, "acl_noroll_climb_wide_radial")
+    controllers, _ = build_controllers(
+        folder, {}, None, CLIMB_V2_GAITS, "acl_noroll_climb_wide_radial"
+    )
     tuned = {c.name: c for c in controllers}["open_loop_tuned"]
     assert "squeeze_slope" not in tuned.env_kwargs  # v3's registered 0.85 applies
 
@@ -312,22 +314,21 @@ def test_tuned_key_picks_another_entry_and_a_missing_one_is_refused(
 ) -> None:
     """--tuned-key plays another tuned gait as open_loop_tuned (here the climb study's, for the
     shipped non-rolling policy); a key the file lacks stops evaluation before any episode."""
-    from acl_env.training import evaluate
+    from acl_env.evaluation import baselines, cli
     from acl_env.training.policy import read_policy_folder
 
-    configs = TUNED_GAITS.parent
-    policy = configs.parent / "policies" / "acl_climb_noroll_ppo"
-    climb = yaml.safe_load((configs / "tuned_gaits_noroll_climb.yml").read_text())
+    policy = SHIPPED_NOROLL
+    climb = tuned_gaits.read(CLIMB_GAITS)
     folder = read_policy_folder(policy)
-    controllers, notes = evaluate.build_controllers(
-        folder, {}, None, configs / "tuned_gaits_noroll_climb.yml", "acl_noroll_climb"
+    controllers, notes = baselines.build_controllers(
+        folder, {}, None, CLIMB_GAITS, "acl_noroll_climb"
     )
     tuned = {c.name: c for c in controllers}["open_loop_tuned"]
     assert tuned.env_id == ACL_CLIMB_NOROLL_ID
     assert tuned.env_kwargs["gait_kwargs"] == climb["acl_noroll_climb"]["env_kwargs"]["gait_kwargs"]
     assert any("'acl_noroll_climb'" in note for note in notes)
     with pytest.raises(SystemExit) as exit_info:
-        evaluate.main(["--policy", str(policy), "--tuned-key", "no_such_entry"])
+        cli.main(["--policy", str(policy), "--tuned-key", "no_such_entry"])
     assert exit_info.value.code == 2
     assert "--tuned-key" in capsys.readouterr().err
 
@@ -364,15 +365,12 @@ def test_v3_holds_the_thinnest_training_pole_where_its_gait_unloosened_rolls() -
     assert not last_info(env, 0)[0]["rolled"]
 
 
-CLIMB_GAITS = TUNED_GAITS.with_name("tuned_gaits_noroll_climb.yml")
-
-
 @pytest.mark.parametrize("seed", [0, 1])
 def test_climb_gait_holds_the_thinnest_training_pole(seed: int) -> None:
     """On the 0.065 m pole (the low end of the training randomisation) the climb study's gait
     used to roll past the limit in its second step: its keyframe table jumped by 64 deg where the
     quadrature of tau failed (docs/gait.md#thin-poles). It now holds the pole for a cycle."""
-    entry = yaml.safe_load(CLIMB_GAITS.read_text())["acl_noroll_climb"]
+    entry = tuned_gaits.entry("acl_noroll_climb", CLIMB_GAITS)
     env = gym.make(ACL_CLIMB_NOROLL_ID, **entry["env_kwargs"], pole_radius=0.065, **SHORT)
     info, steps = last_info(env, seed)
     assert steps == 2 * SHORT["steps_per_cycle"]
@@ -381,8 +379,9 @@ def test_climb_gait_holds_the_thinnest_training_pole(seed: int) -> None:
 
 
 def _robustness() -> dict[str, Any]:
-    """The functions of benchmarks/policy_robustness.py (a script, not a module of the package)."""
-    return runpy.run_path(str(ROOT / "benchmarks" / "policy_robustness.py"), run_name="robustness")
+    """The functions of the policy-robustness script (not a module of the package)."""
+    script = EXPERIMENTS / "noroll_v3" / "policy_robustness.py"
+    return runpy.run_path(str(script), run_name="robustness")
 
 
 @pytest.mark.parametrize(
@@ -445,32 +444,46 @@ def test_pole_sweep_has_one_cell_per_radius_and_plots_each_controller(tmp_path: 
     assert path.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
 
 
+@pytest.mark.replay
 @pytest.mark.parametrize(
     ("folder", "record_path", "gait"),
     [
-        ("acl_climb_noroll_ppo", "eval_noroll.json", "open_loop_acl"),
+        (SHIPPED_NOROLL, Path("docs") / "eval_noroll.json", "open_loop_acl"),
         # the policy shipped until v3: on v2, with v3's gait as env kwargs
-        ("ablations/noroll_v2_gait", "noroll_v2_gait/eval_noroll.json", "open_loop_policy_gait"),
+        (
+            EXPERIMENTS / "noroll_v2_gait" / "noroll_v2_gait",
+            EXPERIMENTS / "noroll_v2_gait" / "shipped_records" / "eval_noroll.json",
+            "open_loop_policy_gait",
+        ),
         # the shipped recipe's other training seeds (README, "Three training seeds")
-        ("ablations/noroll_v3_seed1", "eval_ablation_noroll_v3_seed1.json", "open_loop_acl"),
-        ("ablations/noroll_v3_seed2", "eval_ablation_noroll_v3_seed2.json", "open_loop_acl"),
+        *(
+            (
+                EXPERIMENTS / "noroll_v3" / f"noroll_v3_seed{seed}",
+                EXPERIMENTS / "noroll_v3" / f"eval_ablation_noroll_v3_seed{seed}.json",
+                "open_loop_acl",
+            )
+            for seed in (1, 2)
+        ),
     ],
+    ids=["shipped", "v2_gait", "seed1", "seed2"],
 )
 def test_noroll_policy_replays_its_published_evaluation(
-    folder: str, record_path: str, gait: str
+    folder: Path, record_path: Path, gait: str
 ) -> None:
     """The README's tables come from the policies as committed: replayed on one of its seeds, the
     policy and its gait climb what the record says, and there the policy climbs further than its
     gait without touching more than 90 deg of any module."""
     import json
 
-    from acl_env.training import evaluate
+    from acl_env.evaluation import baselines
     from acl_env.training.policy import read_policy_folder
 
-    record = json.loads((ROOT / "docs" / record_path).read_text())
-    assert record["policy"] == f"train/policies/{folder}"
-    policy = read_policy_folder(ROOT / "train" / "policies" / folder)
-    controllers, _ = evaluate.build_controllers(policy, {}, None, TUNED_GAITS)
+    root = EXPERIMENTS.parent
+    record = json.loads((root / record_path).read_text())
+    # Records name the policy where it was when they were made (train/policies/...): by its name.
+    assert Path(record["policy"]).name == folder.name
+    policy = read_policy_folder(folder)
+    controllers, _ = baselines.build_controllers(policy, {}, None, TUNED_GAITS)
     by_name = {c.name: c for c in controllers}
     climbs = {}
     for name in ("policy", gait):
@@ -489,15 +502,16 @@ def test_noroll_policy_replays_its_published_evaluation(
 
 
 def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path: Path) -> None:
-    """benchmarks/slip_by_phase.py takes a policy without a cadence action (the non-rolling one):
-    its gait plays at one keyframe per step, as the policy does, and each controller's phase bins
-    add up to its episode's climb per gait cycle."""
+    """experiments/residual_limits/slip_by_phase.py takes a policy without a cadence action (the
+    non-rolling one): its gait plays at one keyframe per step, as the policy does, and each
+    controller's phase bins add up to its episode's climb per gait cycle."""
     import json
 
-    from acl_env.training.evaluate import evaluation_env_kwargs
+    from acl_env.evaluation.baselines import evaluation_env_kwargs
     from acl_env.training.policy import read_policy_folder
 
-    main = runpy.run_path(str(ROOT / "benchmarks" / "slip_by_phase.py"), run_name="slip")["main"]
+    script = EXPERIMENTS / "residual_limits" / "slip_by_phase.py"
+    main = runpy.run_path(str(script), run_name="slip")["main"]
     out = tmp_path / "slip.json"
     argv = ["--policy", str(SHIPPED_NOROLL), "--episodes", "1", "--bins", "4"]
     document = main(
@@ -515,12 +529,13 @@ def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path:
 
 
 def test_squeeze_slope_sweep_leaves_the_default_pole_alone(tmp_path: Path) -> None:
-    """benchmarks/squeeze_slope.py: on the default 0.075 m pole every slope plays the same gait
-    (the same climb, seed for seed); on a thinner pole the slope changes it; the record is written
-    and a slope the env refuses stops the sweep before any episode."""
+    """experiments/squeeze_slope/squeeze_slope.py: on the default 0.075 m pole every slope plays the
+    same gait (the same climb, seed for seed); on a thinner pole the slope changes it; the record is
+    written and a slope the env refuses stops the sweep before any episode."""
     import json
 
-    main = runpy.run_path(str(ROOT / "benchmarks" / "squeeze_slope.py"), run_name="sweep")["main"]
+    script = EXPERIMENTS / "squeeze_slope" / "squeeze_slope.py"
+    main = runpy.run_path(str(script), run_name="sweep")["main"]
     out = tmp_path / "sweep.json"
     args = ["--slopes", "0", "1", "--pole-radii", "0.065", "0.075", "--episodes", "2"]
     args += ["--workers", "1", "--no-progress-bar", "--json", str(out)]

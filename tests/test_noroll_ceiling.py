@@ -1,4 +1,5 @@
-"""benchmarks/noroll_ceiling.py: open-loop sweeps around the registered non-rolling gait."""
+"""experiments/noroll_ceiling/noroll_ceiling.py: open-loop sweeps around the registered
+non-rolling gait."""
 
 from __future__ import annotations
 
@@ -10,13 +11,14 @@ from typing import Any
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
+SCRIPT = EXPERIMENTS / "noroll_ceiling" / "noroll_ceiling.py"
 GAIT = {"amp_pitch": 0.04, "amp_radial": 0.02, "pitch": 0.08, "rolls_per_cycle": 0.0}
 
 
 def _ceiling() -> dict[str, Any]:
-    """The functions of benchmarks/noroll_ceiling.py (a script, not a module of the package)."""
-    return runpy.run_path(str(ROOT / "benchmarks" / "noroll_ceiling.py"), run_name="ceiling")
+    """The functions of the non-rolling ceiling script (not a module of the package)."""
+    return runpy.run_path(str(SCRIPT), run_name="ceiling")
 
 
 def test_cells_change_one_thing_and_start_with_the_registered_gait() -> None:

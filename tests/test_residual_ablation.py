@@ -1,5 +1,5 @@
-"""benchmarks/residual_ablation.py: the policy with joint groups' residual zeroed, and its use of
-the action's bound."""
+"""experiments/noroll_v3/residual_ablation.py: the policy with joint groups' residual zeroed, and
+its use of the action's bound."""
 
 from __future__ import annotations
 
@@ -12,13 +12,16 @@ from typing import Any
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-SHIPPED_NOROLL = ROOT / "train" / "policies" / "acl_climb_noroll_ppo"
+from acl_env import shipped
+
+EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
+SCRIPT = EXPERIMENTS / "noroll_v3" / "residual_ablation.py"
+SHIPPED_NOROLL = shipped.policy_dir("acl_climb_noroll_ppo")
 
 
 def _ablation() -> dict[str, Any]:
-    """The functions of benchmarks/residual_ablation.py (a script, not a module of the package)."""
-    return runpy.run_path(str(ROOT / "benchmarks" / "residual_ablation.py"), run_name="ablation")
+    """The functions of the residual-ablation script (not a module of the package)."""
+    return runpy.run_path(str(SCRIPT), run_name="ablation")
 
 
 def test_joint_range_parses_ranges_and_refuses_bad_ones() -> None:

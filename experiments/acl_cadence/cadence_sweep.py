@@ -1,13 +1,13 @@
 """How does an open-loop gait's reward per gait cycle change with the cadence it is played at?
 
-``python benchmarks/cadence_sweep.py [--tuned-gaits FILE ...] [--rates 1.0 1.1 ...] [--episodes
-10] [--policy-point EVAL_JSON[=LABEL] ...] [--json PATH] [--plot PATH]`` plays the ``acl`` entry
-of each tuned-gaits file open loop at constant cadences (gait keyframes per env step, as the
-evaluation's ``open_loop_acl_same_cadence`` does for a policy that sets the cadence), on the same
-reset seeds for every gait and rate, under the same reward weights (``--reward-weights``, default
-the shipped recipe's), and prints climb, slip, energy and reward per gait cycle (mean and 95 %
-CI). ``--policy-point`` marks a
-policy's (mean cadence, reward per gait cycle) from an evaluation JSON of ``train/evaluate.py``.
+``python experiments/acl_cadence/cadence_sweep.py [--tuned-gaits FILE ...] [--rates 1.0 1.1 ...]
+[--episodes 10] [--policy-point EVAL_JSON[=LABEL] ...] [--json PATH] [--plot PATH]`` plays the
+``acl`` entry of each tuned-gaits file open loop at constant cadences (gait keyframes per env
+step, as the evaluation's ``open_loop_acl_same_cadence`` does for a policy that sets the cadence),
+on the same reset seeds for every gait and rate, under the same reward weights
+(``--reward-weights``, default the shipped recipe's), and prints climb, slip, energy and reward
+per gait cycle (mean and 95 % CI). ``--policy-point`` marks a policy's (mean cadence, reward per
+gait cycle) from an evaluation JSON of ``acl-evaluate``.
 
 A residual policy with the cadence action is compared with open loops at its own cadence; this
 shows what the cadence alone is worth to each open loop, and which gait is the best open loop at
@@ -16,31 +16,24 @@ each cadence.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
-from acl_env import ACL_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, shipped, tuned_gaits
 from acl_env.envs.rewards import check_reward_weights
 from acl_env.evaluation import summarize
-from acl_env.training import cli, config
-from acl_env.training.evaluate import (
-    Controller,
-    TunedGaitsError,
-    make_pool,
-    run_controllers,
-    shown_path,
-    tuned_gait,
-)
-from acl_env.training.runs import write_json
+from acl_env.evaluation.baselines import Controller, TunedGaitsError, shown_path, tuned_gait
+from acl_env.evaluation.records import controller_summary, read_record
+from acl_env.evaluation.runner import evaluate
+from acl_env.scripts import KeyValues, make_parser, save_figure, use_agg, write_output
+from acl_env.training import config
 
-ROOT = Path(__file__).resolve().parents[1]
+EXPERIMENTS = Path(__file__).resolve().parent.parent
 DEFAULT_GAITS = (
-    ROOT / "train" / "configs" / "tuned_gaits.yml",
-    ROOT / "train" / "configs" / "tuned_gaits_cadence2.yml",
-    ROOT / "train" / "configs" / "tuned_gaits_acl_energy.yml",
+    tuned_gaits.shipped_path(),
+    EXPERIMENTS / "acl_cadence" / "tuned_gaits_cadence2.json",
+    EXPERIMENTS / "acl_earlier_gaits" / "tuned_gaits_acl_energy.json",
 )
-RECIPE = ROOT / "train" / "configs" / "ppo.yml"
 METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "reward_per_gait_cycle")
 
 
@@ -67,7 +60,7 @@ def gait_controllers(
 def policy_point(spec: str) -> dict[str, Any]:
     """``EVAL_JSON[=LABEL]`` -> the policy's mean cadence, label and metrics (mean, half-width)."""
     path, _, label = spec.partition("=")
-    policy = json.loads(Path(path).read_text())["controllers"]["policy"]
+    policy = controller_summary(read_record(path), "policy")
     point = {"rate": policy["mean_phase_rate"], "label": label or Path(path).stem}
     return point | {m: {k: policy[m][k] for k in ("mean", "half_width")} for m in METRICS}
 
@@ -75,11 +68,7 @@ def policy_point(spec: str) -> dict[str, Any]:
 def plot(rows: list[dict[str, Any]], points: list[dict[str, Any]], path: Path) -> None:
     """Reward, climb and slip per gait cycle against cadence, one line per gait, policies as
     markers."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), constrained_layout=True)
     panels = (
         ("reward_per_gait_cycle", "reward per gait cycle"),
@@ -114,12 +103,11 @@ def plot(rows: list[dict[str, Any]], points: list[dict[str, Any]], path: Path) -
         ax.set_title(title)
         ax.grid(alpha=0.3)
     fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=2)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120)
 
 
 def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
-    parser = cli.ArgumentParser(prog="cadence_sweep.py", description=__doc__.splitlines()[0])
+    parser = make_parser(__doc__, plot=True, plot_suffixes=(".png",), episodes=10, workers=2)
     parser.add_argument("--tuned-gaits", type=Path, nargs="+", default=DEFAULT_GAITS)
     parser.add_argument(
         "--rates",
@@ -129,24 +117,20 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     )
     parser.add_argument(
         "--reward-weights",
-        type=cli.key_value,
+        action=KeyValues,
         nargs="+",
         default=None,
         metavar="TERM:WEIGHT",
         help="reward weights of every gait's env (default: the shipped recipe's, ppo.yml)",
     )
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=10)
-    parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
     parser.add_argument("--policy-point", action="append", default=[], metavar="EVAL_JSON[=LABEL]")
-    parser.add_argument("--json", type=cli.output_file(".json"))
-    parser.add_argument("--plot", type=cli.output_file(".png"))
     args = parser.parse_args(argv)
     if any(not 0.0 < rate <= 3.0 for rate in args.rates):
         parser.error(f"argument --rates: each must be in (0, 3], got {args.rates}")
-    if args.reward_weights is None:
-        weights = config.load_hyperparams(RECIPE, ACL_CLIMB_ID)["env_kwargs"]["reward_weights"]
-    else:
-        weights = cli.pairs_to_dict("--reward-weights", args.reward_weights)
+    weights = args.reward_weights
+    if weights is None:
+        recipe = config.load_hyperparams(shipped.recipe_path(), ACL_CLIMB_ID)
+        weights = recipe["env_kwargs"]["reward_weights"]
     try:
         check_reward_weights(weights)
     except (TypeError, ValueError) as error:
@@ -163,12 +147,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
             parser.error(f"argument --tuned-gaits: {error}")
         print(note)
         controllers += gaits
-    pool = make_pool(args.workers)
-    try:
-        results = run_controllers(controllers, list(range(args.episodes)), pool)
-    finally:
-        if pool is not None:
-            pool.shutdown()
+    results = evaluate(controllers, list(range(args.episodes)), args.workers)
     rows = []
     for controller in controllers:
         summary = summarize(results[controller.name])
@@ -184,16 +163,15 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     print(
         f"mean ± 95 % CI half-width, {args.episodes} episodes (reset seeds 0-{args.episodes - 1})"
     )
-    if args.json:
-        document = {
-            "tuned_gaits": [shown_path(p) for p in args.tuned_gaits],
-            "reward_weights": weights,
-            "episodes": args.episodes,
-            "rows": rows,
-        }
-        write_json(Path(args.json), document)
+    document = {
+        "tuned_gaits": [shown_path(p) for p in args.tuned_gaits],
+        "reward_weights": weights,
+        "episodes": args.episodes,
+        "rows": rows,
+    }
+    write_output(args.json, document)
     if args.plot:
-        plot(rows, points, Path(args.plot))
+        plot(rows, points, args.plot)
     return rows
 
 

@@ -1,7 +1,7 @@
 """How far can the non-rolling open loop climb per cycle near its tuned gait? Three sweeps.
 
-``python benchmarks/noroll_ceiling.py [--env ID] [--seeds 20] [--sweeps waves friction rocking]
-[--policy-eval EVAL.json] [--json PATH] [--plot PATH]``
+``python experiments/noroll_ceiling/noroll_ceiling.py [--env ID] [--seeds 20] [--sweeps waves
+friction rocking] [--policy-eval EVAL.json] [--json PATH] [--plot PATH]``
 
 Zero-action episodes (episode ``i`` resets with seed ``i``, the default condition) of the
 non-rolling env's registered gait with one thing changed at a time. Every episode plays its two
@@ -25,13 +25,12 @@ bounds), the episodes whose roll swept past the env's limit and the falls. A cel
 no episode fell, touched more than 90 deg or rolled past the limit. The summary names the best
 cell that held, as a multiple
 of the registered gait measured in the same run, beside the issue's 1.5x target. With
-``--policy-eval`` (a ``train/evaluate.py --json`` file) the plot also marks that policy's climb.
-``benchmarks/noroll_limits.py`` is the older, point-wise sweep of v2's gait.
+``--policy-eval`` (an ``acl-evaluate --json`` file) the plot also marks that policy's climb.
+``experiments/noroll_two_stage/noroll_limits.py`` is the older, point-wise sweep of v2's gait.
 """
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -43,8 +42,9 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_NOROLL_ID
 from acl_env.evaluation import mean_ci95, run_episode, zero_policy
+from acl_env.evaluation.records import controller_summary, read_record
+from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 from acl_env.training import cli
-from acl_env.training.runs import write_json
 
 TARGET_RATIO = 1.5  # issue 11: the policy's climb over the tuned non-rolling open loop
 ARC_LIMIT_DEG = 90.0  # issue 11: the touched arc allowed on every module
@@ -138,18 +138,14 @@ def summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 def policy_climb_cm(path: Path) -> float:
-    """The policy's mean climb per gait cycle (cm) in a ``train/evaluate.py --json`` file."""
-    document = json.loads(path.read_text())
-    return 100.0 * float(document["controllers"]["policy"]["climb_per_gait_cycle_m"]["mean"])
+    """The policy's mean climb per gait cycle (cm) in an ``acl-evaluate --json`` file."""
+    policy = controller_summary(read_record(path), "policy")
+    return 100.0 * float(policy["climb_per_gait_cycle_m"]["mean"])
 
 
 def plot(document: dict[str, Any], path: Path) -> None:
     """One panel per sweep: climb per gait cycle, hollow where an episode rolled or fell."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     rows, info = document["cells"], document["summary"]
     sweeps = [s for s in SWEEPS if any(row["sweep"] == s for row in rows)]
     fig, axes = plt.subplots(1, len(sweeps), figsize=(5.0 * len(sweeps), 4.2), squeeze=False)
@@ -186,27 +182,23 @@ def plot(document: dict[str, Any], path: Path) -> None:
         "Non-rolling open loop near its tuned gait: climb over two whole cycles "
         "(hollow: an episode fell, rolled past the limit or touched > 90 deg; clipped below -2 cm)"
     )
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
-def make_parser() -> cli.ArgumentParser:
-    parser = cli.ArgumentParser(description=__doc__.splitlines()[0])
+def build_parser() -> cli.ArgumentParser:
+    """The command line (the parent options of :mod:`acl_env.scripts` and the sweep's own)."""
+    parser = make_parser(__doc__, plot=True, plot_suffixes=(".png",), progress=True)
     parser.add_argument("--env", default=ACL_CLIMB_NOROLL_ID, help="a non-rolling env id")
     parser.add_argument(
         "--seeds", type=cli.int_at_least(1), default=20, help="episodes per cell (evaluate's 20)"
     )
     parser.add_argument("--sweeps", nargs="+", choices=SWEEPS, default=list(SWEEPS))
-    parser.add_argument("--policy-eval", type=Path, help="a train/evaluate.py JSON to mark")
-    parser.add_argument("--json", type=cli.output_file(".json"), help="write the cells here")
-    parser.add_argument("--plot", type=cli.output_file(".png"), help="write the figure here")
-    parser.add_argument("--no-progress-bar", action="store_true")
+    parser.add_argument("--policy-eval", type=Path, help="an acl-evaluate --json file to mark")
     return parser
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = make_parser()
+    parser = build_parser()
     args = parser.parse_args(argv)
     if args.policy_eval is not None and not args.policy_eval.is_file():
         parser.error(f"argument --policy-eval: no such file {str(args.policy_eval)!r}")
@@ -254,10 +246,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         f"registered gait {info['registered_cm']:.2f} cm per gait cycle; {held_text}; "
         f"the 1.5x target is {info['target_cm']:.2f} cm"
     )
-    if args.json:
-        write_json(args.json, document)
-    if args.plot:
-        plot(document, args.plot)
+    write_outputs(args, document, plot)
     return document
 
 

@@ -1,7 +1,7 @@
 """Does a policy's gain survive a slower actuator and a harder contact?
 
-``python benchmarks/action_smoothing.py --policy DIR [--episodes 5] [--holds 1 2 4]
-[--timestep 0.001] [--contact-timeconsts 0.005 0.002] [--env-kwargs KEY:VALUE ...] [--json PATH]
+``python experiments/noroll_climb_gait/action_smoothing.py --policy DIR [--episodes 5] [--holds 1 2
+4] [--timestep 0.001] [--contact-timeconsts 0.005 0.002] [--env-kwargs KEY:VALUE ...] [--json PATH]
 [--plot PATH]``
 
 A residual policy can learn to flip its action between the ends of its range at every control
@@ -29,7 +29,6 @@ near 0).
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 from typing import Any
 
@@ -38,12 +37,11 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
+from acl_env.evaluation.baselines import evaluation_env_kwargs
 from acl_env.model import apply_physics_options
+from acl_env.scripts import parse_policy_args, policy_parser, save_figure, use_agg, write_outputs
 from acl_env.training import cli
-from acl_env.training.checks import check_env_kwargs
-from acl_env.training.evaluate import evaluation_env_kwargs
 from acl_env.training.policy import load_policy, read_policy_folder
-from acl_env.training.runs import write_json
 
 HIGH_BAND = 0.25  # the top 3/4 of the spectrum, above a quarter of Nyquist
 
@@ -159,11 +157,7 @@ def print_table(document: dict[str, Any]) -> None:
 
 def plot(document: dict[str, Any], path: Path) -> None:
     """Climb per gait cycle per controller (bars), one group per physics setting."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     physics = list(dict.fromkeys(r["physics"] for r in document["rows"]))
     names = list(dict.fromkeys(r["controller"] for r in document["rows"]))
     width = 0.8 / len(names)
@@ -181,15 +175,11 @@ def plot(document: dict[str, Any], path: Path) -> None:
     ax.set_ylabel("climb per gait cycle (cm)")
     ax.set_title(f"{Path(document['policy']).name}: {document['episodes']} seeds per bar")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
-def make_parser() -> argparse.ArgumentParser:
-    parser = cli.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--policy", type=cli.existing_dir, required=True, help="policy folder")
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=5)
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = policy_parser(__doc__, episodes=5)
     parser.add_argument(
         "--holds",
         type=cli.int_at_least(1),
@@ -205,43 +195,25 @@ def make_parser() -> argparse.ArgumentParser:
         default=[0.005, 0.002],
         help="contact time constants (s) played at --timestep",
     )
-    parser.add_argument("--env-kwargs", type=cli.key_value, nargs="*", metavar="KEY:VALUE")
-    parser.add_argument("--json", type=cli.output_file(".json"))
-    parser.add_argument("--plot", type=cli.output_file(".png", ".pdf", ".svg"))
-    parser.add_argument("--no-progress-bar", action="store_true")
-    return parser
-
-
-def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = make_parser()
-    args = parser.parse_args(argv)
-    overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+    args, env = parse_policy_args(parser, argv)
+    env.close()
     for tc in args.contact_timeconsts:
         if tc < 2 * args.timestep:
             parser.error(
                 f"--contact-timeconsts {tc:g} is under two --timestep {args.timestep:g} steps: "
                 "MuJoCo would clamp it (choose a finer --timestep)"
             )
-    try:
-        check_env_kwargs(read_policy_folder(args.policy).env_id, overrides).close()
-    except (ValueError, TypeError) as error:
-        parser.error(str(error))
     document = run(
         args.policy,
         args.episodes,
         args.holds,
         args.timestep,
         args.contact_timeconsts,
-        overrides,
+        args.env_kwargs,
         progress=not args.no_progress_bar,
     )
     print_table(document)
-    if args.json:
-        write_json(args.json, document)
-        print(f"wrote {args.json}")
-    if args.plot:
-        plot(document, args.plot)
-        print(f"wrote {args.plot}")
+    write_outputs(args, document, plot)
     return document
 
 

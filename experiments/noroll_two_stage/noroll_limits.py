@@ -1,19 +1,17 @@
 """Where the non-rolling gait's grip gives way: open-loop sweeps around the tuned gait.
 
-``python benchmarks/noroll_limits.py [--seeds 3] [--json PATH]``: zero-action episodes (two
-cycles, one per reset seed, :func:`acl_env.evaluation.run_episode`) of ``acl_env/ACLClimbNoRoll-
-v2`` with one or two of its gait parameters changed from its registered values
-(``NOROLL_V2_KWARGS``, the gait v3 replaced once a rerun of its study found larger waves
-climbing further): larger axial waves (A_p), a tighter helix (squeeze), a longer pitch, a third
-wave (Omega = 3).
-Prints climb and slip per gait cycle, the largest touched arc and the falls or roll-limit ends
-of each. The question it answers: does inching further per cycle only need larger waves, or
-does the grip fail first?
+``python experiments/noroll_two_stage/noroll_limits.py [--seeds 3] [--json PATH]``: zero-action
+episodes (two cycles, one per reset seed, :func:`acl_env.evaluation.run_episode`) of
+``acl_env/ACLClimbNoRoll-v2`` with one or two of its gait parameters changed from its registered
+values (``NOROLL_V2_KWARGS``, the gait v3 replaced once a rerun of its study found larger waves
+climbing further): larger axial waves (A_p), a tighter helix (squeeze), a longer pitch, a third wave
+(Omega = 3). Prints climb and slip per gait cycle, the largest touched arc and the falls or
+roll-limit ends of each. The question it answers: does inching further per cycle only need larger
+waves, or does the grip fail first?
 """
 
 from __future__ import annotations
 
-import argparse
 from typing import Any
 
 import gymnasium
@@ -22,8 +20,8 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_NOROLL_V2_ID, NOROLL_V2_KWARGS
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.scripts import make_parser, write_output
 from acl_env.training import cli
-from acl_env.training.runs import write_json
 
 TUNED_GAIT: dict[str, Any] = dict(NOROLL_V2_KWARGS["gait_kwargs"])
 TUNED_SQUEEZE = float(NOROLL_V2_KWARGS["squeeze"])
@@ -42,14 +40,9 @@ VARIANTS: dict[str, tuple[dict[str, Any], float | None]] = {
 
 
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=3)
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
-    )
+    parser = make_parser(__doc__)
+    parser.add_argument("--seeds", type=cli.int_at_least(1), default=3, help="episodes per variant")
     args = parser.parse_args(argv)
-    if args.seeds < 1:
-        parser.error("--seeds must be at least 1")
     table: dict[str, dict[str, float]] = {}
     for label, (changes, squeeze) in VARIANTS.items():
         kwargs: dict[str, Any] = {"gait_kwargs": {**TUNED_GAIT, **changes}}
@@ -82,8 +75,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             f"| {row['slip_per_gait_cycle_cm']:.1f} | {row['touched_arc_deg']:.0f} "
             f"| {row['ended_early']}/{row['n']} |"
         )
-    if args.json:
-        write_json(args.json, table)
+    write_output(args.json, table)
     return table
 
 

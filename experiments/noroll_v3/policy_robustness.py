@@ -1,24 +1,22 @@
 """Is the policy no worse than open loop across the randomisation range? Pole radius x friction.
 
-``python benchmarks/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out | --pole-radii
-R ...] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--tuned-gaits FILE]
-[--tuned-key KEY]`` evaluates the controllers of ``train/evaluate.py``
-(:mod:`acl_env.training.evaluate`: the policy, open-loop ACL, at the policy's cadence, rolling
-helix, tuned gait from ``--tuned-gaits``, entry ``--tuned-key``; same seeds for all) at the
-corners and centre of the training ranges of pole radius and friction, with ``--held-out`` under
-conditions outside the training ranges (``HELD_OUT``), or with ``--pole-radii`` on each of those
-poles (a sweep, say towards the thin held-out pole), and prints the climb per gait cycle, slip
-per metre, largest touched arc, falls and (in the JSON) episodes ended by rolling, mean
-episode length and the share of its base gait's joint commands that the joint limit clips in
-that cell (``gait.saturation``) of each. ``--env-kwargs`` applies to every cell
-(``roll_limit:None`` lets episodes run on past the roll limit, to see what the body does
-there). ``--plot`` draws a pole sweep: climb per gait cycle, the share of episodes that fell or
-rolled and the clipped share, per controller.
+``python experiments/noroll_v3/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out |
+--pole-radii R ...] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--tuned-gaits FILE]
+[--tuned-key KEY]`` evaluates the controllers of ``acl-evaluate`` (:mod:`acl_env.training.evaluate`:
+the policy, open-loop ACL, at the policy's cadence, rolling helix, tuned gait from
+``--tuned-gaits``, entry ``--tuned-key``; same seeds for all) at the corners and centre of the
+training ranges of pole radius and friction, with ``--held-out`` under conditions outside the
+training ranges (``HELD_OUT``), or with ``--pole-radii`` on each of those poles (a sweep, say
+towards the thin held-out pole), and prints the climb per gait cycle, slip per metre, largest
+touched arc, falls and (in the JSON) episodes ended by rolling, mean episode length and the share of
+its base gait's joint commands that the joint limit clips in that cell (``gait.saturation``) of
+each. ``--env-kwargs`` applies to every cell (``roll_limit:None`` lets episodes run on past the roll
+limit, to see what the body does there). ``--plot`` draws a pole sweep: climb per gait cycle, the
+share of episodes that fell or rolled and the clipped share, per controller.
 """
 
 from __future__ import annotations
 
-import argparse
 import itertools
 from pathlib import Path
 from typing import Any
@@ -26,18 +24,17 @@ from typing import Any
 import numpy as np
 
 from acl_env.evaluation import summarize
-from acl_env.training import cli
-from acl_env.training.checks import check_env_kwargs
-from acl_env.training.evaluate import (
+from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
     TunedGaitsError,
     build_controllers,
-    evaluate,
-    make_pool,
 )
+from acl_env.evaluation.runner import evaluate, make_pool
+from acl_env.scripts import make_parser, save_figure, use_agg, write_output
+from acl_env.training import cli
+from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
-from acl_env.training.runs import write_json
 
 POLE_RADII = (0.065, 0.075, 0.09)
 FRICTIONS = (0.7, 1.0, 1.2)
@@ -80,11 +77,7 @@ def plot_sweep(rows: list[dict], path: Path) -> None:
     """Climb per gait cycle (cm), the share of episodes that fell or rolled past ``roll_limit``
     and the share of the base gait's joint commands clipped at the joint limit, against the pole
     radius, one line per controller (rows of a ``--pole-radii`` sweep, in order)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     radii = [100.0 * row["overrides"]["pole_radius"] for row in rows]
     names = [key for key in rows[0] if key not in ("condition", "overrides")]
     fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(6.4, 7.6), sharex=True)
@@ -109,16 +102,13 @@ def plot_sweep(rows: list[dict], path: Path) -> None:
     bottom.set_ylabel("share of base gait's\njoint commands clipped")
     bottom.set_xlabel("pole radius (cm)")
     middle.legend(fontsize=7, loc="center right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
-    parser = cli.ArgumentParser(prog="policy_robustness.py", description=__doc__.splitlines()[0])
+    plot = "with --pole-radii: climb and episodes ended against the radius"
+    parser = make_parser(__doc__, plot=plot, episodes=5, workers=2, env_kwargs=True)
     parser.add_argument("--policy", type=cli.existing_dir, default=DEFAULT_POLICY)
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=5)
-    parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
     parser.add_argument(
         "--tuned-gaits", type=Path, default=DEFAULT_TUNED_GAITS, help="the tuned open-loop gaits"
     )
@@ -129,36 +119,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     cells.add_argument(
         "--held-out", action="store_true", help="conditions outside the training ranges"
     )
-    cells.add_argument(
-        "--pole-radii",
-        type=cli.positive_float,
-        nargs="+",
-        metavar="R",
-        help="one cell per pole radius (m), at default friction",
-    )
-    parser.add_argument(
-        "--env-kwargs",
-        type=cli.key_value,
-        nargs="*",
-        default=[],
-        metavar="KEY:VALUE",
-        help="env arguments for every cell (e.g. roll_limit:None)",
-    )
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the rows to this JSON file"
-    )
-    parser.add_argument(
-        "--plot",
-        type=cli.output_file(".png", ".pdf", ".svg"),
-        help="with --pole-radii: climb and episodes ended against the radius",
-    )
+    radii = "one cell per pole radius (m), at default friction"
+    cells.add_argument("--pole-radii", type=cli.positive_float, nargs="+", metavar="R", help=radii)
     args = parser.parse_args(argv)
     if args.plot is not None and args.pole_radii is None:
         parser.error("argument --plot: draws a --pole-radii sweep; give --pole-radii")
-    try:
-        shared: dict[str, Any] = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
-    except argparse.ArgumentTypeError as error:
-        parser.error(str(error))
+    shared: dict[str, Any] = args.env_kwargs
     if args.pole_radii is not None and "pole_radius" in shared:
         parser.error("argument --env-kwargs: pole_radius is what --pole-radii sweeps")
     if args.held_out:
@@ -230,11 +196,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         print(_format(row, names), flush=True)
     if pool is not None:
         pool.shutdown()
-    if args.json:
-        write_json(args.json, rows)
+    write_output(args.json, rows)
     if args.plot:
         plot_sweep(rows, args.plot)
-        print(f"wrote {args.plot}")
     return rows
 
 

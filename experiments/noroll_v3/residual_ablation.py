@@ -1,7 +1,7 @@
 """Which joints' residual does a policy's work, and does it push against its bound?
 
-``python benchmarks/residual_ablation.py --policy DIR [--episodes 10] [--groups 0-3 0-9 10-19]
-[--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH]``
+``python experiments/noroll_v3/residual_ablation.py --policy DIR [--episodes 10] [--groups 0-3 0-9
+10-19] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH]``
 
 Two questions about a joint-residual policy, answered on the same seeds (episode ``i`` resets
 with seed ``i``):
@@ -32,11 +32,9 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
-from acl_env.training import cli
-from acl_env.training.checks import check_env_kwargs
-from acl_env.training.evaluate import evaluation_env_kwargs
+from acl_env.evaluation.baselines import evaluation_env_kwargs
+from acl_env.scripts import parse_policy_args, policy_parser, save_figure, use_agg, write_outputs
 from acl_env.training.policy import load_policy, read_policy_folder
-from acl_env.training.runs import write_json
 
 SATURATED = 0.95  # |a| above this counts as at the bound
 DEFAULT_GROUPS = ["0-3", "0-9", "10-19"]
@@ -153,11 +151,7 @@ def print_table(document: dict[str, Any]) -> None:
 
 def plot(document: dict[str, Any], path: Path) -> None:
     """Per joint: the policy's mean |a| and its share of steps at the bound."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     mean_abs = np.array(document["mean_abs_action"])
     saturated = np.array(document["saturated_share"])
     joints = np.arange(len(mean_abs))
@@ -172,15 +166,11 @@ def plot(document: dict[str, Any], path: Path) -> None:
         f"{document['episodes']} seeds"
     )
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
-def make_parser() -> argparse.ArgumentParser:
-    parser = cli.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--policy", type=cli.existing_dir, required=True, help="policy folder")
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=10)
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = policy_parser(__doc__, episodes=10)
     parser.add_argument(
         "--groups",
         type=joint_range,
@@ -189,34 +179,16 @@ def make_parser() -> argparse.ArgumentParser:
         metavar="A-B",
         help="joint ranges whose residual is zeroed, one controller each (0: head)",
     )
-    parser.add_argument("--env-kwargs", type=cli.key_value, nargs="*", metavar="KEY:VALUE")
-    parser.add_argument("--json", type=cli.output_file(".json"))
-    parser.add_argument("--plot", type=cli.output_file(".png", ".pdf", ".svg"))
-    parser.add_argument("--no-progress-bar", action="store_true")
-    return parser
-
-
-def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = make_parser()
-    args = parser.parse_args(argv)
-    overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
-    try:
-        env = check_env_kwargs(read_policy_folder(args.policy).env_id, overrides)
-    except (ValueError, TypeError) as error:
-        parser.error(str(error))
+    args, env = parse_policy_args(parser, argv)
     n_joints = env.unwrapped.n_joints
     env.close()
     for lo, hi in args.groups:
         if hi >= n_joints:
             parser.error(f"--groups {lo}-{hi}: the snake's joints are 0-{n_joints - 1}")
-    document = run(args.policy, args.episodes, args.groups, overrides, not args.no_progress_bar)
+    progress = not args.no_progress_bar
+    document = run(args.policy, args.episodes, args.groups, args.env_kwargs, progress)
     print_table(document)
-    if args.json:
-        write_json(args.json, document)
-        print(f"wrote {args.json}")
-    if args.plot:
-        plot(document, args.plot)
-        print(f"wrote {args.plot}")
+    write_outputs(args, document, plot)
     return document
 
 

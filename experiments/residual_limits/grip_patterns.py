@@ -1,8 +1,8 @@
 """Is the tuned gait's grip already where it should be? Fixed per-section squeeze patterns.
 
-``python benchmarks/grip_patterns.py [--seeds 3] [--scale 0.003] [--tuned-gaits FILE] [--json
-PATH]``: the tuned open-loop ACL gait (``acl`` in ``train/configs/tuned_gaits.yml``, or in
-``--tuned-gaits``) with a constant gait-modulation
+``python experiments/residual_limits/grip_patterns.py [--seeds 3] [--scale 0.003] [--tuned-gaits
+FILE] [--json PATH]``: the tuned open-loop ACL gait (``acl`` of the shipped tuned gaits,
+:mod:`acl_env.tuned_gaits`, or of ``--tuned-gaits``) with a constant gait-modulation
 action (:mod:`acl_env.envs.modulation`): the squeeze offset by ``+-scale`` in some of the four body
 sections (head first), the authority the grip ablation's policy had. Two cycles per reset seed at
 default conditions, under the reward weights the gait was tuned for. Prints each pattern's climb per
@@ -13,20 +13,16 @@ cannot express and a policy could learn by holding it.
 
 from __future__ import annotations
 
-import argparse
 from collections.abc import Callable
 from pathlib import Path
 
 import gymnasium
 import numpy as np
-import yaml
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, tuned_gaits
 from acl_env.evaluation import run_episode
-from acl_env.training import cli
-from acl_env.training.evaluate import DEFAULT_TUNED_GAITS
-from acl_env.training.runs import write_json
+from acl_env.scripts import make_parser, write_output
 
 # Section offsets in units of --scale, head first: one section, the whole body, ends against
 # middle, front against back.
@@ -52,24 +48,21 @@ def constant(action: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
 
 
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = make_parser(__doc__)
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--scale", type=float, default=0.003, help="squeeze offset (m)")
     parser.add_argument(
         "--tuned-gaits",
         type=Path,
-        default=DEFAULT_TUNED_GAITS,
-        help="tuned-gaits file whose 'acl' gait is played (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--json", type=cli.output_file(".json"), help="write the table to this JSON file"
+        help="tuned-gaits file whose 'acl' gait is played (default: the shipped tuned gaits)",
     )
     args = parser.parse_args(argv)
     if args.seeds < 1:
         parser.error("--seeds must be at least 1")
-    if not args.tuned_gaits.is_file():
-        parser.error(f"--tuned-gaits: {args.tuned_gaits} is not a file")
-    tuned = yaml.safe_load(args.tuned_gaits.read_text())["acl"]
+    try:
+        tuned = tuned_gaits.entry("acl", args.tuned_gaits)
+    except tuned_gaits.TunedGaitsError as error:
+        parser.error(f"argument --tuned-gaits: {error}")
     env = gymnasium.make(
         ACL_CLIMB_ID,
         **tuned["env_kwargs"],
@@ -95,8 +88,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
     for name, row in table.items():
         ratios = " | ".join(f"{row[c] / base[c]:.3f}" for c in COLUMNS)
         print(f"| {name} | {ratios} | {row['falls']:.0f} |")
-    if args.json:
-        write_json(args.json, table)
+    write_output(args.json, table)
     return table
 
 

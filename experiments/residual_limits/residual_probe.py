@@ -1,16 +1,15 @@
 """What can a joint-space residual buy at the gait's cadence? Structured residuals, measured.
 
-``python benchmarks/residual_probe.py [--seeds 2]``: open-loop ACL plus hand-made residuals that
-stay inside the policy's authority (``residual_scale``, clipped): the gait scaled up or down, and
-steps toward other ACL parameter sets (Omega 3, A_p 2 cm, a tighter or looser helix, another
-pitch, a radial grip wave, Eq. 1). Prints climb and slip per cycle (two cycles, default settings);
-the answer bounds what PPO can find with the residual alone. ``--phase-rates`` adds open-loop
-cadence changes (the PMTG option), for comparison.
+``python experiments/residual_limits/residual_probe.py [--seeds 2]``: open-loop ACL plus hand-made
+residuals that stay inside the policy's authority (``residual_scale``, clipped): the gait scaled up
+or down, and steps toward other ACL parameter sets (Omega 3, A_p 2 cm, a tighter or looser helix,
+another pitch, a radial grip wave, Eq. 1). Prints climb and slip per cycle (two cycles, default
+settings); the answer bounds what PPO can find with the residual alone. ``--phase-rates`` adds
+open-loop cadence changes (the PMTG option), for comparison.
 """
 
 from __future__ import annotations
 
-import argparse
 from collections.abc import Callable
 
 import numpy as np
@@ -19,6 +18,7 @@ from tqdm import tqdm
 from acl_env.envs import ACLClimbEnv
 from acl_env.evaluation import run_episode
 from acl_env.gait import ACLGait
+from acl_env.scripts import make_parser
 
 Residual = Callable[[int, np.ndarray], np.ndarray]  # (keyframe, base target) -> residual, rad
 
@@ -47,7 +47,7 @@ def toward(env: ACLClimbEnv, **kwargs: float) -> Residual:
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = make_parser(__doc__, json=None)
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--residual-scale", type=float, default=0.2, help="rad per unit action")
     parser.add_argument("--phase-rates", action="store_true", help="also cadence 1.25x, 1.5x")

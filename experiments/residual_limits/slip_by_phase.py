@@ -1,8 +1,8 @@
 """Where in the gait cycle does a policy slide less (or more) than its gait at the same cadence?
 
-``python benchmarks/slip_by_phase.py [--policy DIR] [--episodes 10] [--bins 10]
+``python experiments/residual_limits/slip_by_phase.py [--policy DIR] [--episodes 10] [--bins 10]
 [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH]``: the policy (deterministic, as
-``train/evaluate.py`` runs it) and its own base gait played open loop at the policy's mean cadence
+``acl-evaluate`` runs it) and its own base gait played open loop at the policy's mean cadence
 (evaluation's ``open_loop_acl_same_cadence`` controller; a policy without a cadence action plays
 one keyframe per step, and so does its gait), on the same reset seeds at default
 conditions (or ``--env-kwargs``). Each step's contact slip, climb and actuator work (the env's
@@ -13,7 +13,6 @@ this shows where its corrections pay and where they cost.
 
 from __future__ import annotations
 
-import argparse
 import os
 from dataclasses import replace
 from pathlib import Path
@@ -26,9 +25,7 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env.evaluation import run_episode, steps_per_cycle
-from acl_env.training import cli
-from acl_env.training.checks import check_env_kwargs
-from acl_env.training.evaluate import (
+from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
     POLICY_ACTION_KWARGS,
@@ -37,8 +34,10 @@ from acl_env.training.evaluate import (
     build_controllers,
     shown_path,
 )
+from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_output
+from acl_env.training import cli
+from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
-from acl_env.training.runs import write_json
 
 TERMS = ("slip", "climb", "energy")
 
@@ -70,40 +69,27 @@ def binned_run(
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = cli.ArgumentParser(prog="slip_by_phase.py", description=__doc__.splitlines()[0])
+    parser = make_parser(
+        __doc__, plot=True, plot_suffixes=(".png",), seed=0, episodes=10, env_kwargs=True,
+        progress=True,
+    )  # fmt: skip
     parser.add_argument("--policy", type=Path, default=DEFAULT_POLICY)
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=10)
-    parser.add_argument("--seed", type=int, default=0, help="first reset seed")
     parser.add_argument("--bins", type=cli.int_at_least(1), default=10, help="phase bins per cycle")
-    parser.add_argument(
-        "--env-kwargs",
-        type=cli.key_value,
-        nargs="*",
-        default=[],
-        metavar="KEY:VALUE",
-        help="conditions for both controllers, e.g. friction:0.5 (default: the env's)",
-    )
-    parser.add_argument("--json", type=cli.output_file(".json"))
-    parser.add_argument("--plot", type=cli.output_file(".png"))
-    parser.add_argument("--no-progress-bar", action="store_true")
     args = parser.parse_args(argv)
     try:
         folder = read_policy_folder(args.policy)
     except ValueError as error:
         parser.error(f"argument --policy: {error}")
-    try:
-        overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
-    except argparse.ArgumentTypeError as error:
-        parser.error(str(error))
+    overrides = args.env_kwargs
     built, _ = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
     controllers = {c.name: c for c in built}
     try:
         check_env_kwargs(folder.env_id, controllers["policy"].env_kwargs).close()
     except ValueError as error:
         parser.error(f"argument --env-kwargs: {error}")
-    seeds = [args.seed + i for i in range(args.episodes)]
+    played = seeds(args)
     progress = not args.no_progress_bar
-    policy, rate = binned_run(controllers["policy"], seeds, args.bins, progress)
+    policy, rate = binned_run(controllers["policy"], played, args.bins, progress)
     if SAME_CADENCE in controllers:  # the policy sets the cadence: its gait at the mean rate
         own_gait = replace(controllers[SAME_CADENCE], phase_rate=rate)
     else:  # the policy's env and gait with a zero action (one keyframe per step, as the policy)
@@ -113,7 +99,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             folder.env_id,
             {k: v for k, v in kwargs.items() if k not in POLICY_ACTION_KWARGS},
         )
-    gait, _ = binned_run(own_gait, seeds, args.bins, progress)
+    gait, _ = binned_run(own_gait, played, args.bins, progress)
 
     print(f"per gait cycle, by the phase a step ends at; open loop at {rate:.3f} keyframes/step")
     print(f"{'phase':>11} " + " ".join(f"{t + ' pol / gait':>26}" for t in TERMS))
@@ -134,15 +120,14 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     document = {
         "policy": shown_path(args.policy),
         "env_kwargs": overrides,
-        "seeds": seeds,
+        "seeds": played,
         "bins": args.bins,
         "phase_rate": rate,
         "note": "per gait cycle executed; bins by the gait phase each step ends at",
         "policy_per_bin": {t: policy[t].tolist() for t in TERMS},
         "gait_per_bin": {t: gait[t].tolist() for t in TERMS},
     }
-    if args.json:
-        write_json(args.json, document)
+    write_output(args.json, document)
     if args.plot:
         plot(policy, gait, rate, args.plot)
     return document
@@ -152,11 +137,7 @@ def plot(
     policy: dict[str, np.ndarray], gait: dict[str, np.ndarray], rate: float, path: Path
 ) -> None:
     """Slip and climb per phase bin, policy beside its gait at the same cadence."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     bins = len(policy["slip"])
     centres = (np.arange(bins) + 0.5) / bins
     width = 0.4 / bins
@@ -172,9 +153,7 @@ def plot(
             f"{term}: policy {policy[term].sum():.4f}, gait {gait[term].sum():.4f} m/cycle"
         )
     axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
 if __name__ == "__main__":

@@ -1,22 +1,21 @@
 """How far should the non-rolling gait's helix loosen on thinner poles? An open-loop sweep.
 
-``python benchmarks/squeeze_slope.py [--slopes 0 0.5 0.7 0.85 1] [--pole-radii R ...] [--episodes
-5] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--workers 2]`` plays the registered
-non-rolling gait (``acl_env/ACLClimbNoRoll-v3``) open loop, a zero action, with each
+``python experiments/squeeze_slope/squeeze_slope.py [--slopes 0 0.5 0.7 0.85 1] [--pole-radii R ...]
+[--episodes 5] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--workers 2]`` plays the
+registered non-rolling gait (``acl_env/ACLClimbNoRoll-v3``) open loop, a zero action, with each
 ``squeeze_slope`` on each pole, the same reset seeds everywhere
-(:func:`acl_env.training.evaluate.run_controllers`). ``squeeze_slope`` k commands the helix
-``k * (0.075 - pole radius)`` looser than the squeeze tuned on the default 0.075 m pole (Eq. 1's
-r; ``ACLClimbEnv.squeeze_at``). Prints, per slope and pole, the climb per gait cycle of the
-episodes that held the pole for both cycles, and how many fell or rolled past ``roll_limit``;
-then each slope's mean climb over the training range's poles (a fall or roll counts as 0 cm). The
-slope to register is chosen on the training range's poles alone (0.065 m and up), so that the
-held-out 0.055 m pole stays held out. ``--plot`` draws the climb against the pole radius per
-slope, with the training range shaded.
+(:func:`acl_env.training.evaluate.run_controllers`). ``squeeze_slope`` k commands the helix ``k *
+(0.075 - pole radius)`` looser than the squeeze tuned on the default 0.075 m pole (Eq. 1's r;
+``ACLClimbEnv.squeeze_at``). Prints, per slope and pole, the climb per gait cycle of the episodes
+that held the pole for both cycles, and how many fell or rolled past ``roll_limit``; then each
+slope's mean climb over the training range's poles (a fall or roll counts as 0 cm). The slope to
+register is chosen on the training range's poles alone (0.065 m and up), so that the held-out 0.055
+m pole stays held out. ``--plot`` draws the climb against the pole radius per slope, with the
+training range shaded.
 """
 
 from __future__ import annotations
 
-import argparse
 import math
 from pathlib import Path
 from typing import Any
@@ -25,10 +24,10 @@ import numpy as np
 
 from acl_env import ACL_CLIMB_NOROLL_ID
 from acl_env.evaluation import Episode
-from acl_env.training import cli
+from acl_env.evaluation.baselines import Controller
+from acl_env.evaluation.runner import evaluate
+from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_output
 from acl_env.training.checks import check_env_kwargs
-from acl_env.training.evaluate import Controller, make_pool, run_controllers
-from acl_env.training.runs import write_json
 
 SLOPES = (0.0, 0.5, 0.7, 0.85, 1.0)
 POLE_RADII = (0.055, 0.06, 0.065, 0.0675, 0.07, 0.0725, 0.075)
@@ -60,11 +59,7 @@ def cell(episodes: list[Episode]) -> dict[str, Any]:
 def plot(table: dict[str, dict[str, dict[str, Any]]], path: str | Path) -> None:
     """Climb per gait cycle (held episodes) against pole radius, one line per slope; a cross
     where an episode fell or rolled."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = use_agg()
     fig, ax = plt.subplots(figsize=(7.0, 4.2))
     ax.axvspan(*(100 * r for r in TRAINING_POLES), color="0.92", label="training range")
     for slope, cells in table.items():
@@ -81,34 +76,18 @@ def plot(table: dict[str, dict[str, dict[str, Any]]], path: str | Path) -> None:
     ax.set_title("Non-rolling gait open loop: squeeze loosened on thin poles (x: fell or rolled)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, 120, tight=True)
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = make_parser(
+        __doc__, plot=True, plot_suffixes=(".png",), seed=0, episodes=5, workers=2,
+        env_kwargs=True, progress=True,
+    )  # fmt: skip
     parser.add_argument("--slopes", type=float, nargs="+", default=list(SLOPES))
     parser.add_argument("--pole-radii", type=float, nargs="+", default=list(POLE_RADII))
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=5)
-    parser.add_argument("--seed", type=int, default=0, help="first reset seed")
-    parser.add_argument(
-        "--env-kwargs",
-        type=cli.key_value,
-        nargs="*",
-        default=[],
-        metavar="KEY:VALUE",
-        help="env arguments for every cell (e.g. friction:0.7)",
-    )
-    parser.add_argument("--workers", type=cli.int_at_least(1), default=2)
-    parser.add_argument("--json", type=cli.output_file(".json"))
-    parser.add_argument("--plot", type=cli.output_file(".png"))
-    parser.add_argument("--no-progress-bar", action="store_true")
     args = parser.parse_args(argv)
-    try:
-        overrides: dict[str, Any] = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
-    except argparse.ArgumentTypeError as error:
-        parser.error(str(error))
+    overrides: dict[str, Any] = args.env_kwargs
     for name in ("squeeze_slope", "pole_radius"):
         if name in overrides:
             parser.error(f"argument --env-kwargs: {name} is what the sweep varies")
@@ -128,13 +107,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         for slope in args.slopes
         for radius in args.pole_radii
     ]
-    seeds = list(range(args.seed, args.seed + args.episodes))
-    pool = make_pool(args.workers)
-    try:
-        results = run_controllers(controllers, seeds, pool, progress=not args.no_progress_bar)
-    finally:
-        if pool is not None:
-            pool.shutdown()
+    played = seeds(args)
+    results = evaluate(controllers, played, args.workers, progress=not args.no_progress_bar)
     table = {
         str(slope): {str(r): cell(results[f"{slope}@{r}"]) for r in args.pole_radii}
         for slope in args.slopes
@@ -158,14 +132,13 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     record = {
         "env_id": ACL_CLIMB_NOROLL_ID,
         "env_kwargs": overrides,
-        "seeds": seeds,
+        "seeds": played,
         "training_poles": list(TRAINING_POLES),
         "cells": table,
         "training_mean_climb_cm": training_means,
         "best_on_training_poles": best,
     }
-    if args.json:
-        write_json(args.json, record)
+    write_output(args.json, record)
     if args.plot:
         plot(table, args.plot)
     return record

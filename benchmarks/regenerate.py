@@ -1,0 +1,129 @@
+"""Regenerate the published tables and figures in ``docs/`` from the shipped policies and gaits.
+
+``python benchmarks/regenerate.py [--list] [--only NAME ...] [--dry-run] [--record PATH]``
+
+:data:`RECORDS` names, per published record, the files it writes and the one command that makes
+them (the commands the README cites). Without ``--only`` every record is made again, in order;
+each takes minutes. After a physics change this is the one command that brings ``docs/`` up to
+date; the marked test group ``pytest -m replay`` fails until it has run. ``--list`` prints the
+table, ``--dry-run`` prints the commands it would run. Each command run is noted with the time it
+finished in ``docs/records.json`` (``--record``): file -> command and time.
+
+Not made here: the learning curves (``docs/learning_curves*``, from training runs), the tuner's
+frontiers (``docs/frontier_acl*.png``, from its studies) and ``docs/snake.png``
+(``python -m acl_env --snapshot``), which need a training run, an Optuna study or a display.
+"""
+
+from __future__ import annotations
+
+import shlex
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from acl_env.io import read_json
+from acl_env.scripts import make_parser, write_output
+
+REPO = Path(__file__).resolve().parent.parent
+DOCS = Path("docs")
+RECORD_FILE = DOCS / "records.json"
+NOROLL_POLICY = "acl_env/data/policies/acl_climb_noroll_ppo"
+
+
+@dataclass(frozen=True)
+class Record:
+    """Published files and the command (run from the repository's root) that writes them."""
+
+    files: tuple[str, ...]
+    command: str
+
+    def argv(self) -> list[str]:
+        """The command's words, ``python`` as this interpreter."""
+        words = shlex.split(self.command)
+        return [sys.executable if word == "python" else word for word in words]
+
+
+RECORDS: dict[str, Record] = {
+    "eval": Record(
+        ("docs/eval.json", "docs/eval.png"),
+        "acl-evaluate --json docs/eval.json --plot docs/eval.png --markdown",
+    ),
+    "eval_noroll": Record(
+        ("docs/eval_noroll.json",),
+        f"acl-evaluate --policy {NOROLL_POLICY} --json docs/eval_noroll.json --markdown",
+    ),
+    "open_loop": Record(
+        ("docs/open_loop.json",),
+        "python benchmarks/open_loop.py --json docs/open_loop.json",
+    ),
+    "paper_tables": Record(
+        ("docs/paper_tables.json", "docs/paper_tables.png"),
+        "python benchmarks/paper_tables.py --json docs/paper_tables.json"
+        " --plot docs/paper_tables.png",
+    ),
+    "noroll_arc": Record(
+        ("docs/noroll_arc.json", "docs/noroll_arc.png"),
+        f"python benchmarks/noroll_arc.py --policy {NOROLL_POLICY} --json docs/noroll_arc.json"
+        " --plot docs/noroll_arc.png",
+    ),
+    "fidelity": Record(
+        ("docs/fidelity.json", "docs/fidelity.png"),
+        "python benchmarks/fidelity.py --json docs/fidelity.json --figure docs/fidelity.png",
+    ),
+    "gait": Record(("docs/gait.png",), "python -m acl_env.gait --plot docs/gait.png"),
+    "acl_policy_video": Record(
+        ("docs/acl_policy.mp4",),
+        "acl-evaluate --episodes 1 --video docs/acl_policy.mp4 --video-beside"
+        " open_loop_acl_same_cadence open_loop_tuned --video-speedup 4",
+    ),
+    "noroll_policy_video": Record(
+        ("docs/noroll_policy.mp4",),
+        f"acl-evaluate --policy {NOROLL_POLICY} --episodes 1 --video docs/noroll_policy.mp4"
+        " --video-beside open_loop_acl --video-speedup 4",
+    ),
+}
+
+
+def regenerate(names: list[str], dry_run: bool, record_path: Path) -> dict[str, Any]:
+    """Run the commands of ``names`` from the repository's root (or print them, ``dry_run``) and
+    note each file made in ``record_path``: its command and when it finished."""
+    path = record_path if record_path.is_absolute() else REPO / record_path
+    made: dict[str, Any] = read_json(path) if path.is_file() and not dry_run else {}
+    for name in names:
+        record = RECORDS[name]
+        print(f"{name}: {record.command}", flush=True)
+        if dry_run:
+            made |= {file: {"command": record.command} for file in record.files}
+            continue
+        start = time.monotonic()
+        subprocess.run(record.argv(), cwd=REPO, check=True)
+        finished = time.strftime("%Y-%m-%dT%H:%M:%S%z")
+        for file in record.files:
+            made[file] = {"command": record.command, "made": finished}
+        write_output(path, dict(sorted(made.items())))
+        print(f"{name}: {time.monotonic() - start:.0f} s", flush=True)
+    return made
+
+
+def main(argv_: list[str] | None = None) -> dict[str, Any]:
+    parser = make_parser(__doc__, prog="regenerate.py", json=None)
+    parser.add_argument("--list", action="store_true", help="print the records and commands")
+    parser.add_argument("--only", nargs="+", choices=list(RECORDS), metavar="NAME")
+    parser.add_argument("--dry-run", action="store_true", help="print the commands, run none")
+    parser.add_argument("--record", type=Path, default=RECORD_FILE, help="file -> command, time")
+    args = parser.parse_args(argv_)
+    if args.list:
+        for name, record in RECORDS.items():
+            print(f"{name:20s} {' '.join(record.files)}\n{'':20s} {record.command}")
+        return {name: record.command for name, record in RECORDS.items()}
+    try:
+        return regenerate(args.only or list(RECORDS), args.dry_run, args.record)
+    except subprocess.CalledProcessError as error:
+        parser.exit(1, f"regenerate.py: {shlex.join(error.cmd)} failed ({error.returncode})\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,133 @@
+"""acl_env.scripts (the shared parser and writers of benchmarks/ and experiments/) and
+benchmarks/regenerate.py (the one command that remakes the published records in docs/)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import runpy
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from acl_env import scripts
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _regenerate() -> dict[str, Any]:
+    """The functions of benchmarks/regenerate.py (a script, not a module of the package)."""
+    return runpy.run_path(str(ROOT / "benchmarks" / "regenerate.py"), run_name="regenerate")
+
+
+def test_parent_parser_gives_the_common_options_under_their_names(tmp_path: Path) -> None:
+    parser = scripts.make_parser(
+        "A script.\n\nMore.",
+        json="the record",
+        plot="the figure",
+        plot_names=("--figure", "--plot"),
+        seed=3,
+        episodes=5,
+        workers=2,
+        env_kwargs="env arguments",
+        progress=True,
+    )
+    assert parser.description == "A script."
+    args = parser.parse_args(
+        ["--figure", str(tmp_path / "f.png"), "--env-kwargs", "friction:0.5", "roll_limit:None"]
+    )
+    assert args.plot == tmp_path / "f.png" and args.json is None
+    assert args.env_kwargs == {"friction": 0.5, "roll_limit": None}
+    assert scripts.seeds(args) == [3, 4, 5, 6, 7] and args.workers == 2
+    assert not args.no_progress_bar
+    assert parser.parse_args(["--plot", str(tmp_path / "f.svg")]).plot == tmp_path / "f.svg"
+    assert scripts.make_parser(None, json=None).parse_args([]) == argparse.Namespace()
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--env-kwargs", "a:1", "a:2"], "argument --env-kwargs: 'a' given twice"),
+        (["--env-kwargs", "nokey"], "argument --env-kwargs: expected key:value"),
+        (["--json", "{tmp}/no/such/folder/x.json"], "argument --json: the folder"),
+        (["--plot", "{tmp}/x.txt"], "argument --plot: expected a file ending in"),
+    ],
+)
+def test_parent_parser_refuses_bad_values_in_one_line(
+    argv: list[str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    parser = scripts.make_parser("S.", plot="figure", env_kwargs="env arguments")
+    with pytest.raises(SystemExit) as exit_:
+        parser.parse_args([a.format(tmp=tmp_path) for a in argv])
+    assert exit_.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_write_output_writes_strict_json_and_makes_its_folder(tmp_path: Path) -> None:
+    import numpy as np
+
+    path = tmp_path / "runs" / "x.json"
+    scripts.write_output(path, {"a": np.float64(1.5), "b": float("nan")})
+    assert json.loads(path.read_text()) == {"a": 1.5, "b": None}
+    scripts.write_output(None, {"a": 1})  # nothing asked, nothing written
+
+
+def test_save_figure_uses_the_headless_backend(tmp_path: Path) -> None:
+    plt = scripts.use_agg()
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    path = tmp_path / "sub" / "f.png"
+    scripts.save_figure(fig, path, 50)
+    assert path.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+    assert not plt.get_fignums()
+
+
+def test_regenerate_lists_every_published_record_and_its_command(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    regenerate = _regenerate()
+    listed = regenerate["main"](["--list"])
+    out = capsys.readouterr().out
+    records = regenerate["RECORDS"]
+    assert set(listed) == set(records)
+    made = {file for record in records.values() for file in record.files}
+    for file in ("docs/eval.json", "docs/eval.png", "docs/eval_noroll.json", "docs/open_loop.json"):
+        assert file in made and file in out
+    assert all(file.startswith("docs/") and (ROOT / file).is_file() for file in made)
+    assert "acl-evaluate --json docs/eval.json --plot docs/eval.png" in listed["eval"]
+    assert listed["open_loop"] == "python benchmarks/open_loop.py --json docs/open_loop.json"
+
+
+def test_regenerate_dry_run_runs_nothing_and_writes_nothing(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    record = tmp_path / "records.json"
+    made = _regenerate()["main"](["--dry-run", "--only", "open_loop", "--record", str(record)])
+    assert made == {
+        "docs/open_loop.json": {
+            "command": "python benchmarks/open_loop.py --json docs/open_loop.json"
+        }
+    }
+    assert "open_loop: python benchmarks/open_loop.py" in capsys.readouterr().out
+    assert not record.exists()
+
+
+def test_regenerate_runs_a_record_from_the_root_and_notes_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A record's command runs in the repository's root with this interpreter; its files are
+    noted with the command and the time (here a stand-in command, not a minutes-long one)."""
+    regenerate = _regenerate()
+    calls: list[tuple[list[str], Path]] = []
+
+    def run(argv: list[str], cwd: Path, check: bool) -> None:
+        calls.append((argv, cwd))
+
+    monkeypatch.setattr(regenerate["subprocess"], "run", run)
+    record = tmp_path / "records.json"
+    made = regenerate["regenerate"](["gait"], False, record)
+    assert calls == [(regenerate["RECORDS"]["gait"].argv(), ROOT)]
+    assert calls[0][0][0] == regenerate["sys"].executable
+    assert json.loads(record.read_text()) == made
+    assert made["docs/gait.png"]["command"] == "python -m acl_env.gait --plot docs/gait.png"

@@ -361,7 +361,11 @@ BAD_ARGUMENTS: dict[str, st.SearchStrategy[Any]] = {
     "pole_radius": outside(*POLE_RADIUS_RANGE),
     "friction": outside(0.0, FRICTION_MAX, open_low=True),
     "kp": outside(0.0, KP_MAX, open_low=True),
-    "squeeze": outside(*SQUEEZE_RANGE),
+    # None is squeeze's default (0.008 m; set by tuned_gait when that is given).
+    "squeeze": outside(*SQUEEZE_RANGE).filter(lambda v: v is not None),
+    "tuned_gait": st.text(max_size=8).filter(lambda s: s not in ("acl", "acl_noroll"))
+    | st.integers()
+    | st.floats(),
     "residual_scale": outside(0.0, RESIDUAL_SCALE_MAX, open_low=True).filter(
         lambda v: v is not None
     ),

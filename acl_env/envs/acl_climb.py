@@ -178,6 +178,8 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
       is bit-identical to none), ``modulation_sections``. v0: initial release.
     * Non-rolling task: v3 plays ``acl_noroll`` with ``squeeze_slope``; v2 fixed the gait tables
       on thin poles; v1 is no longer registered.
+    * ACLClimb-v2 and ACLClimbNoRoll-v4: v1 and v3 with the shipped policies' tasks as defaults
+      (``acl_env.BENCHMARK_KWARGS``, ``acl_env.NOROLL_BENCHMARK_KWARGS``); the same physics.
     """
 
     metadata: ClassVar[dict[str, Any]] = {

@@ -1,0 +1,61 @@
+"""The benchmark tasks are registered ids whose defaults are the shipped policies' tasks."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import yaml
+
+import acl_env
+from acl_env import shipped, tuned_gaits
+
+
+def _recipe() -> dict:
+    return yaml.safe_load(shipped.recipe_path().read_text())
+
+
+def _constructor_kwargs(env_id: str, env_kwargs: dict) -> dict:
+    """What ACLClimbEnv is built with: the registration's kwargs under the call's, the tuned gait
+    written out, tuples as lists (YAML has no tuples)."""
+    kwargs = tuned_gaits.resolve({**gym.spec(env_id).kwargs, **env_kwargs})
+    return {k: list(v) if isinstance(v, tuple) else v for k, v in kwargs.items()}
+
+
+@pytest.mark.parametrize(("task", "base"), list(acl_env.BENCHMARK_BASES.items()))
+def test_benchmark_id_is_the_shipped_recipes_task(task: str, base: str) -> None:
+    """The recipe for a benchmark id trains what the shipped recipe on its base id trains (the
+    shipped policy's task): the same hyperparameters, and the id's defaults plus domain
+    randomisation build the env the base entry's env kwargs build."""
+    recipe = _recipe()
+    new, old = dict(recipe[task]), dict(recipe[base])
+    new_kwargs, old_kwargs = new.pop("env_kwargs"), old.pop("env_kwargs")
+    assert new == old
+    assert set(new_kwargs) == {"domain_randomization"}  # only the training choice is left
+    assert _constructor_kwargs(task, new_kwargs) == _constructor_kwargs(base, old_kwargs)
+
+
+@pytest.mark.parametrize(("task", "base"), list(acl_env.BENCHMARK_BASES.items()))
+def test_benchmark_id_steps_as_its_base_with_the_recipes_kwargs(task: str, base: str) -> None:
+    """Bit for bit: the same seeded actions on the benchmark id with no kwargs and on the base
+    id with the shipped recipe's env kwargs (less domain randomisation) give the same steps."""
+    kwargs = dict(_recipe()[base]["env_kwargs"])
+    kwargs.pop("domain_randomization")
+    envs = [gym.make(task), gym.make(base, **kwargs)]
+    assert envs[0].action_space == envs[1].action_space
+    assert envs[0].observation_space == envs[1].observation_space
+    rng = np.random.default_rng(0)
+    obs = [env.reset(seed=3)[0] for env in envs]
+    np.testing.assert_array_equal(obs[0], obs[1])
+    for _ in range(15):
+        action = rng.uniform(-1, 1, envs[0].action_space.shape).astype(np.float32)
+        steps = [env.step(action) for env in envs]
+        np.testing.assert_array_equal(steps[0][0], steps[1][0])
+        assert steps[0][1:4] == steps[1][1:4]
+
+
+def test_the_paper_default_gait_env_stays_registered() -> None:
+    """ACLClimb-v1 is still the paper's default gait with a plain joint residual."""
+    env = gym.make(acl_env.ACL_CLIMB_ID).unwrapped
+    assert env.residual_scale == pytest.approx(0.2) and env.phase_rate_range is None
+    assert env.squeeze == pytest.approx(0.008)

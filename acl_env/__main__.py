@@ -2,13 +2,17 @@
 
 Plays the open-loop gait (zero residual) through :func:`acl_env.evaluation.run_episode` and prints
 its metrics. Without ``--video`` or ``--snapshot`` it opens MuJoCo's interactive viewer (needs a
-display); headless machines write an mp4 or a PNG instead (``MUJOCO_GL=egl``).
+display); headless machines write an mp4 or a PNG instead (``MUJOCO_GL=egl``). Without a usable
+display (see :func:`no_display_reason`) it says so, names those options and exits with status 2
+before any window is opened.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import sys
+from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
@@ -40,6 +44,16 @@ def main(argv: list[str] | None = None) -> None:
         if path and not os.path.isdir(os.path.dirname(os.path.abspath(path))):
             parser.error(f"{option}: the folder of {path!r} does not exist")
     headless = bool(args.video or args.snapshot)
+    if not headless and (reason := no_display_reason()):
+        print(
+            f"python -m acl_env: cannot open MuJoCo's viewer: {reason}.\n"
+            "Record instead: python -m acl_env --video climb.mp4 (an mp4, needs imageio[ffmpeg]) "
+            "or --snapshot snake.png (a PNG of both cameras),\n"
+            "rendered offscreen with MUJOCO_GL=egl (set by default for these; "
+            "MUJOCO_GL=osmesa without a GPU).",
+            file=sys.stderr,
+        )
+        sys.exit(2)
     if headless:
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is first imported (make)
     env = gym.make(
@@ -78,6 +92,26 @@ def main(argv: list[str] | None = None) -> None:
         imageio.mimwrite(args.video, frames, fps=int(env.metadata["render_fps"]) * 4)
         print(f"wrote {args.video} ({len(frames)} frames, 4x real time)")
     env.close()
+
+
+def no_display_reason(environ: Mapping[str, str] | None = None, platform: str | None = None) -> str:
+    """Why MuJoCo's interactive viewer cannot open here, or ``""`` when it may.
+
+    The viewer needs a window (GLFW): on Linux a display server, named by ``DISPLAY`` (X11) or
+    ``WAYLAND_DISPLAY``; and ``MUJOCO_GL`` set to an offscreen backend (``egl``, ``osmesa``)
+    rules windows out anywhere. Checked before anything opens a window, since GLFW aborts the
+    process (exit 134) instead of raising when no display is there.
+    """
+    environ = os.environ if environ is None else environ
+    platform = sys.platform if platform is None else platform
+    backend = environ.get("MUJOCO_GL", "").strip().lower()
+    if backend in ("egl", "osmesa"):
+        return f"MUJOCO_GL={backend} selects offscreen rendering, which has no window"
+    if platform.startswith("linux") and not (
+        environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")
+    ):
+        return "no display (neither DISPLAY nor WAYLAND_DISPLAY is set)"
+    return ""
 
 
 def _write_snapshot(env: gym.Env, path: str) -> None:

@@ -1,0 +1,49 @@
+"""The documentation site builds with ``mkdocs build --strict`` (a broken link, a page missing from
+the navigation or an API page that does not render fails it), and its results page shows the
+numbers of the generated records (docs/hooks/results.py), not retyped ones."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+SKIP = 'the docs extra is not installed (pip install -e ".[docs]")'
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    for module in ("mkdocs", "material", "mkdocstrings", "mkdocstrings_handlers.python"):
+        pytest.importorskip(module, reason=SKIP)
+    site_dir = tmp_path_factory.mktemp("site")
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site_dir)],
+        cwd=ROOT,
+        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-5000:]
+    return site_dir
+
+
+def test_mkdocs_build_strict(site: Path) -> None:
+    for page in ("index", "environments", "results", "experiments", "api/envs"):
+        path = site / page / "index.html" if page != "index" else site / "index.html"
+        assert path.is_file(), path
+    assert "ACLClimbEnv" in (site / "api" / "envs" / "index.html").read_text()
+
+
+@pytest.mark.parametrize("record", ["eval.json", "eval_noroll.json"])
+def test_results_page_reads_the_records(site: Path, record: str) -> None:
+    page = (site / "results" / "index.html").read_text()
+    policy = json.loads((ROOT / "docs" / record).read_text())["controllers"]["policy"]
+    climb = policy["climb_per_gait_cycle_m"]
+    assert f"{100 * climb['mean']:.2f} ± {100 * climb['half_width']:.2f}" in page
+    assert "<!-- results:" not in page

@@ -23,6 +23,7 @@ The environments they build on, and those earlier results are published for:
 from gymnasium.envs.registration import register, registry
 
 from acl_env import tuned_gaits
+from acl_env.pretrained import list_policies, load_policy
 
 __version__ = "0.1.0"
 __all__ = [
@@ -37,6 +38,8 @@ __all__ = [
     "NOROLL_KWARGS",
     "NOROLL_V2_KWARGS",
     "ROLLING_HELIX_CLIMB_ID",
+    "list_policies",
+    "load_policy",
 ]
 
 ACL_CLIMB_ID = "acl_env/ACLClimb-v1"

@@ -1,6 +1,7 @@
 """What the package ships, reached through :mod:`importlib.resources`, wherever it is installed:
 the training recipe (``acl_env/data/ppo.yml``, rl-baselines3-zoo format), the tuned gaits
-(:mod:`acl_env.tuned_gaits`) and the pretrained policies (``acl_env/data/policies/<name>/``)."""
+(:mod:`acl_env.tuned_gaits`) and the pretrained policies (``acl_env/data/policies/<name>/``:
+``policy.json`` and ``policy.npz``, loaded on numpy by :mod:`acl_env.pretrained`)."""
 
 from __future__ import annotations
 

@@ -2,7 +2,10 @@
 and torch's thread count restored after every test."""
 
 import os
+import shutil
+import subprocess
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 import torch
@@ -20,3 +23,26 @@ def _restore_torch_threads() -> Iterator[None]:
     yield
     if torch.get_num_threads() != TORCH_THREADS:
         torch.set_num_threads(TORCH_THREADS)
+
+
+@pytest.fixture(scope="session")
+def clean_source(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The project's files as a clean checkout has them (tracked, and untracked but not ignored),
+    copied apart: a wheel built from the working folder would also pack stale files left in its
+    ignored build/ folder by an earlier build."""
+    root = Path(__file__).resolve().parents[1]
+    listed = subprocess.run(
+        ["git", "ls-files", "-co", "--exclude-standard", "-z"],
+        cwd=root,
+        capture_output=True,
+        check=False,
+    )
+    if listed.returncode != 0:  # not a git checkout (an sdist): build from it as it is
+        return root
+    target = tmp_path_factory.mktemp("source")
+    for name in filter(None, listed.stdout.decode().split("\0")):
+        source = root / name
+        if source.is_file():
+            (target / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, target / name)
+    return target

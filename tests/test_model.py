@@ -81,10 +81,18 @@ def test_chain_matches_numpy_forward_kinematics() -> None:
 
 
 @pytest.mark.slow
-def test_wheel_ships_the_assets(tmp_path: Path) -> None:
+def test_wheel_ships_the_assets(tmp_path: Path, clean_source: Path) -> None:
     """A non-editable install (the wheel) finds the MJCF templates inside the package."""
     wheel_dir, target = tmp_path / "wheel", tmp_path / "site"
-    build = ["wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(wheel_dir), str(ROOT)]
+    build = [
+        "wheel",
+        "--no-deps",
+        "--no-build-isolation",
+        "-q",
+        "-w",
+        str(wheel_dir),
+        str(clean_source),
+    ]
     subprocess.run([sys.executable, "-m", "pip", *build], check=True)
     (wheel,) = wheel_dir.glob("acl_env-*.whl")
     subprocess.run(
@@ -110,7 +118,7 @@ def test_wheel_ships_the_assets(tmp_path: Path) -> None:
     probe = (
         "import gymnasium as gym, acl_env; from acl_env import shipped, tuned_gaits; "
         "print(shipped.recipe_path()); print(tuned_gaits.shipped_path()); "
-        "print(*[shipped.policy_dir(n) / 'model.zip' for n in shipped.list_policies()]); "
+        "print(*[shipped.policy_dir(n) / 'policy.npz' for n in shipped.list_policies()]); "
         "print(gym.make(acl_env.ACL_CLIMB_NOROLL_ID).unwrapped.squeeze)"
     )
     out = subprocess.run(

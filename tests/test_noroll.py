@@ -315,11 +315,10 @@ def test_tuned_key_picks_another_entry_and_a_missing_one_is_refused(
     """--tuned-key plays another tuned gait as open_loop_tuned (here the climb study's, for the
     shipped non-rolling policy); a key the file lacks stops evaluation before any episode."""
     from acl_env.evaluation import baselines, cli
-    from acl_env.training.policy import read_policy_folder
 
     policy = SHIPPED_NOROLL
     climb = tuned_gaits.read(CLIMB_GAITS)
-    folder = read_policy_folder(policy)
+    folder = baselines.read_policy(policy)
     controllers, notes = baselines.build_controllers(
         folder, {}, None, CLIMB_GAITS, "acl_noroll_climb"
     )
@@ -476,13 +475,12 @@ def test_noroll_policy_replays_its_published_evaluation(
     import json
 
     from acl_env.evaluation import baselines
-    from acl_env.training.policy import read_policy_folder
 
     root = EXPERIMENTS.parent
     record = json.loads((root / record_path).read_text())
     # Records name the policy where it was when they were made (train/policies/...): by its name.
     assert Path(record["policy"]).name == folder.name
-    policy = read_policy_folder(folder)
+    policy = baselines.read_policy(folder)  # the shipped one pretrained, the others SB3 folders
     controllers, _ = baselines.build_controllers(policy, {}, None, TUNED_GAITS)
     by_name = {c.name: c for c in controllers}
     climbs = {}
@@ -507,8 +505,7 @@ def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path:
     controller's phase bins add up to its episode's climb per gait cycle."""
     import json
 
-    from acl_env.evaluation.baselines import evaluation_env_kwargs
-    from acl_env.training.policy import read_policy_folder
+    from acl_env.evaluation.baselines import evaluation_env_kwargs, read_policy
 
     script = EXPERIMENTS / "residual_limits" / "slip_by_phase.py"
     main = runpy.run_path(str(script), run_name="slip")["main"]
@@ -521,7 +518,7 @@ def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path:
     assert document["phase_rate"] == 1.0
     assert len(document["gait_per_bin"]["climb"]) == 4
     # The policy's env as evaluation plays it (no domain randomisation), with a zero action.
-    env_kwargs = evaluation_env_kwargs(read_policy_folder(SHIPPED_NOROLL))
+    env_kwargs = evaluation_env_kwargs(read_policy(SHIPPED_NOROLL))
     env = gym.make(ACL_CLIMB_NOROLL_ID, **{**env_kwargs, "cycles_per_episode": 1})
     gait = run_episode(env, zero_policy(env), 0).metrics()["climb_per_gait_cycle_m"]
     assert sum(document["gait_per_bin"]["climb"]) == pytest.approx(gait, rel=1e-6)

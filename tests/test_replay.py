@@ -21,10 +21,8 @@ def test_shipped_acl_policy_replays_its_published_evaluation(name: str) -> None:
     """Each controller of the README's ACL table, replayed on the record's first seed, measures
     what the record says (exactly where it was recorded; 0.1 % leaves room for another CPU's
     rounding), on the controllers evaluation builds today from the shipped files."""
-    from acl_env.training.policy import read_policy_folder
-
     record = records.read_record(RECORD)
-    folder = read_policy_folder(shipped.policy_dir())
+    folder = baselines.read_policy(shipped.policy_dir())  # pretrained: numpy, as acl-evaluate
     controllers, _ = baselines.build_controllers(folder, {}, None, baselines.DEFAULT_TUNED_GAITS)
     controller = {c.name: c for c in controllers}[name]
     recorded = records.controller_summary(record, name)

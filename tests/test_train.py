@@ -16,6 +16,7 @@ import gymnasium
 import pytest
 import yaml
 
+import acl_env
 from acl_env import (
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_ID,
@@ -222,18 +223,17 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
     [(ACL_ID, "acl_climb_ppo"), (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo")],
 )
 def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, policy: str) -> None:
-    """The README says each shipped policy comes from its ppo.yml entry: the run's merged
-    config.yml must be that entry (``n_timesteps`` aside: a run in segments passes
-    ``--n-timesteps`` per segment), and the run must have trained all of its steps."""
-    folder = shipped.policy_dir(policy)
+    """Each shipped policy comes from its ppo.yml entry: the recipe its metadata records must be
+    that entry (``n_timesteps`` aside: a run in segments passes ``--n-timesteps`` per segment),
+    and the run must have trained all of its steps."""
+    training = acl_env.load_policy(policy).metadata["training"]
     recipe = config.load_hyperparams(RECIPE, env_id)
-    trained = config.load_hyperparams(folder / "config.yml", env_id)
+    trained = training["hyperparams"]
     assert {k: v for k, v in trained.items() if k != "n_timesteps"} == {
         k: v for k, v in recipe.items() if k != "n_timesteps"
     }
-    summary = json.loads((folder / "summary.json").read_text())
-    assert not summary["interrupted"]
-    assert summary["total_steps"] >= recipe["n_timesteps"]
+    assert not training["interrupted"]
+    assert training["steps"] >= recipe["n_timesteps"]
 
 
 # Ablations that train with another slip weight than the shipped recipe's 2 (reward shaping); the

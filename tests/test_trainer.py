@@ -688,3 +688,19 @@ def test_a_recipe_with_one_entry_trains_that_env_without_env(tmp_path: Path) -> 
     assert "--env" not in argv
     plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
     assert plan.env_id == ACL_CLIMB_NOROLL_V2_ID
+
+
+def test_init_from_a_pretrained_policy_is_refused_naming_the_option(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A shipped (numpy) policy has no optimiser state or torch weights to warm-start from: one
+    line naming --init-from, exit 2, nothing written."""
+    from acl_env import shipped
+
+    folder = shipped.policy_dir()
+    with pytest.raises(SystemExit) as exit_info:
+        trainer.main(tiny_argv(tmp_path / "runs", 128, "--init-from", str(folder)))
+    err = capsys.readouterr().err.strip()
+    assert exit_info.value.code == 2 and len(err.splitlines()) == 1
+    assert "--init-from" in err and "pretrained" in err, err
+    assert not (tmp_path / "runs").exists()

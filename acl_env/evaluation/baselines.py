@@ -2,7 +2,9 @@
 
 Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 
-* ``policy``: the policy folder's newest model, deterministic, VecNormalize statistics frozen;
+* ``policy``: the policy, deterministic: a pretrained folder (``policy.json``, as shipped) on numpy
+  (:mod:`acl_env.pretrained`), or an SB3 run folder's newest model, VecNormalize statistics
+  frozen (:mod:`acl_env.training.policy`, which needs the ``train`` extra);
 * ``open_loop_acl``: the default ACL gait, zero action (on the policy's env when its base gait is
   ACL, so a non-rolling task is judged against its own open loop; the env's registered gait,
   without the ``gait_kwargs`` or ``squeeze`` a policy may have been trained on);
@@ -35,22 +37,24 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import gymnasium
 
 from acl_env import (
+    ACL_CLIMB_BENCHMARK_ID,
     ACL_CLIMB_ID,
+    ACL_CLIMB_NOROLL_BENCHMARK_ID,
     ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_NOROLL_V2_ID,
+    BENCHMARK_BASES,
     ROLLING_HELIX_CLIMB_ID,
+    pretrained,
     shipped,
     tuned_gaits,
 )
 from acl_env.evaluation.protocol import Policy, constant_cadence_policy, zero_policy
-
-if TYPE_CHECKING:
-    from acl_env.training.policy import PolicyFolder
+from acl_env.pretrained import PolicySource
 
 DEFAULT_POLICY = shipped.policy_dir()
 DEFAULT_TUNED_GAITS = tuned_gaits.shipped_path()
@@ -85,14 +89,33 @@ class Controller:
         return gymnasium.make(self.env_id, **{**self.env_kwargs, **extra})
 
     def make_policy(self, env: gymnasium.Env) -> Policy:
-        """The policy acting in ``env``: the folder's model (loads SB3), or the open loop."""
+        """The policy acting in ``env``: the folder's (a pretrained one on numpy, an SB3 one
+        through SB3), or the open loop; :class:`~acl_env.pretrained.SpaceMismatchError` when
+        the policy was trained on other spaces."""
         if self.policy_dir is not None:
-            from acl_env.training.policy import load_policy  # SB3 and torch: only for a policy
+            if pretrained.is_pretrained(self.policy_dir):
+                policy = pretrained.load_policy(Path(self.policy_dir))
+                policy.check_spaces(env)
+                return policy
+            from acl_env.training.policy import load_policy  # SB3 and torch: only for SB3 folders
 
             return load_policy(self.policy_dir, env)
         if self.phase_rate is not None:
             return constant_cadence_policy(env, self.phase_rate)
         return zero_policy(env)
+
+
+def read_policy(path: str | Path) -> PolicySource:
+    """A policy folder's env id, training env kwargs and recipe: a pretrained folder's
+    (``policy.json``, numpy and JSON only), else an SB3 run folder's (``config.yml``, through
+    :mod:`acl_env.training.policy`, which needs PyYAML). ``ValueError`` naming what is wrong."""
+    if pretrained.is_pretrained(path):
+        policy = pretrained.load_policy(Path(path))
+        policy.check_registered()
+        return policy
+    from acl_env.training.policy import read_sb3_folder
+
+    return read_sb3_folder(path)
 
 
 # --- the baselines of each task, as data ---------------------------------------------------------
@@ -118,6 +141,12 @@ TASKS: dict[str, TaskBaselines] = {
     # on v1's gait tables; v3's entry is the same study rerun on v2's).
     ACL_CLIMB_NOROLL_V2_ID: TaskBaselines(
         base_gait="acl", non_rolling=True, tuned_key="acl_noroll_v2"
+    ),
+    # The benchmark ids: their policies are judged as on their base ids with the recipe's kwargs
+    # (spelled_on_base); these entries serve a direct lookup.
+    ACL_CLIMB_BENCHMARK_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl"),
+    ACL_CLIMB_NOROLL_BENCHMARK_ID: TaskBaselines(
+        base_gait="acl", non_rolling=True, tuned_key="acl_noroll"
     ),
 }
 # The tuned-gaits entry for a gait whose rolling is not its task's (a non-rolling gait given as
@@ -221,15 +250,38 @@ def tuned_gait(
 # --- which controllers ---------------------------------------------------------------------------
 
 
-def evaluation_env_kwargs(folder: PolicyFolder) -> dict[str, Any]:
+def evaluation_env_kwargs(folder: PolicySource) -> dict[str, Any]:
     """The policy's training env kwargs less the training-only ones (domain randomisation):
     the conditions it is evaluated under before any override (``tuned_gait`` resolved)."""
     kwargs = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
     return tuned_gaits.resolve(kwargs)
 
 
+def spelled_on_base(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
+    """A benchmark id's task as its base id plus keyword arguments (``acl_env.BENCHMARK_BASES``:
+    ACLClimb-v2 is ACLClimb-v1 with the shipped recipe's kwargs), so a policy on either spelling
+    meets the same baselines; any other id as it is."""
+    base_id = BENCHMARK_BASES.get(env_id)
+    if base_id is None:
+        return env_id, dict(env_kwargs)
+    own, base = gymnasium.spec(env_id).kwargs or {}, gymnasium.spec(base_id).kwargs or {}
+    extra = {k: list(v) if isinstance(v, tuple) else v for k, v in own.items() if base.get(k) != v}
+    return base_id, {**extra, **env_kwargs}
+
+
+def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
+    """The inverse of :func:`spelled_on_base`: a base id whose kwargs spell a benchmark task as
+    that benchmark id and the kwargs left over (domain randomisation); any other as it is."""
+    for benchmark, base_id in BENCHMARK_BASES.items():
+        if base_id == env_id:
+            implied = spelled_on_base(benchmark, {})[1]
+            if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
+                return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
+    return env_id, dict(env_kwargs)
+
+
 def build_controllers(
-    folder: PolicyFolder | None,
+    folder: PolicySource | None,
     overrides: dict[str, Any],
     reward_weights: dict[str, float] | None,
     tuned_path: Path,
@@ -238,9 +290,12 @@ def build_controllers(
     """The controllers to compare, all under the same conditions, and notes on any skipped
     (``tuned_key``: the tuned-gaits entry, by default :func:`default_tuned_key`)."""
     base: dict[str, Any] = {}
-    acl_id = ACL_CLIMB_ID
+    acl_id = policy_id = ACL_CLIMB_ID
     if folder is not None:
-        base = evaluation_env_kwargs(folder)
+        policy_id, spelled = spelled_on_base(folder.env_id, folder.env_kwargs)
+        base = tuned_gaits.resolve(
+            {k: v for k, v in spelled.items() if k not in TRAINING_ONLY_KWARGS}
+        )
         if reward_weights is None:
             reward_weights = base.get("reward_weights")
     base = {**base, **overrides}
@@ -253,20 +308,20 @@ def build_controllers(
     acl_kwargs = open_loop  # without a policy: the ACL env with --env-kwargs, gait kwargs included
     if folder is not None:
         acl_kwargs = other_gait
-        controllers.append(Controller("policy", folder.env_id, base, str(folder.path)))
-        if base.get("base_gait", task_baselines(folder.env_id).base_gait) == "acl":
+        controllers.append(Controller("policy", policy_id, base, str(folder.path)))
+        if base.get("base_gait", task_baselines(policy_id).base_gait) == "acl":
             # The registered gait of the policy's env (ACLClimbNoRoll-v3: the non-rolling one),
             # without any reshaping of it the policy was trained on.
-            acl_id = folder.env_id
+            acl_id = policy_id
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
     sets_cadence = (
-        folder is not None and env_setting(folder.env_id, open_loop, "phase_rate_range") is not None
+        folder is not None and env_setting(policy_id, open_loop, "phase_rate_range") is not None
     )
     if folder is not None:
         if sets_cadence:
             # The policy's own base gait (reshaped or not) at the policy's cadence: what the
             # policy adds beyond running its gait faster.
-            same = Controller(SAME_CADENCE, folder.env_id, open_loop, phase_rate=1.0)
+            same = Controller(SAME_CADENCE, policy_id, open_loop, phase_rate=1.0)
             controllers.append(same)
         else:
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
@@ -281,7 +336,7 @@ def build_controllers(
         if on_tuned:
             notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
         else:  # the policy's own gait, zero action: what the residual adds to it
-            controllers.append(Controller(POLICY_GAIT, folder.env_id, open_loop))
+            controllers.append(Controller(POLICY_GAIT, policy_id, open_loop))
     if tuned is None:
         notes.append(f"open_loop_tuned: skipped, {note}")
     else:

@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from acl_env import shipped
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
@@ -25,13 +26,28 @@ from acl_env.evaluation.baselines import (
     Controller,
     TunedGaitsError,
     build_controllers,
+    read_policy,
     shown_path,
 )
 from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
 from acl_env.evaluation.runner import evaluate
+from acl_env.pretrained import SpaceMismatchError
 from acl_env.training import cli
+
+
+def policy_folder(text: str) -> Path:
+    """An argparse type: a shipped policy's name (its folder) or an existing folder."""
+    path = Path(text)
+    if text in shipped.list_policies() and not path.is_dir():
+        return shipped.policy_dir(text)
+    if not path.is_dir():
+        names = ", ".join(shipped.list_policies())
+        raise argparse.ArgumentTypeError(
+            f"expected a shipped policy ({names}) or an existing folder, got {text!r}"
+        )
+    return path
 
 
 def make_parser() -> cli.ArgumentParser:
@@ -42,7 +58,11 @@ def make_parser() -> cli.ArgumentParser:
     )
     which = parser.add_mutually_exclusive_group()
     which.add_argument(
-        "--policy", type=cli.existing_dir, default=DEFAULT_POLICY, help="run or policy folder"
+        "--policy",
+        type=policy_folder,
+        default=DEFAULT_POLICY,
+        help=f"a shipped policy ({', '.join(shipped.list_policies())}; default "
+        f"{shipped.DEFAULT_POLICY}), a pretrained policy folder or an SB3 run folder",
     )
     which.add_argument("--no-policy", action="store_true", help="open-loop controllers only")
     parser.add_argument("--episodes", type=cli.int_at_least(1), default=20)
@@ -116,10 +136,9 @@ def _checked_controllers(
 ) -> tuple[list[Controller], list[str]]:
     """Controllers built and each env and policy made once, so that every bad argument is refused
     (one line, exit status 2) before any episode runs."""
-    # The policy folder's reader and the env checks need SB3 and PyYAML: imported when used.
+    # The env checks need PyYAML, an SB3 folder's reader too: imported when used.
+    from acl_env.envs.kwargs import check_env_kwargs
     from acl_env.envs.rewards import check_reward_weights
-    from acl_env.training.checks import check_env_kwargs
-    from acl_env.training.policy import SpaceMismatchError, read_policy_folder
 
     try:
         overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
@@ -131,7 +150,7 @@ def _checked_controllers(
     folder = None
     if not args.no_policy:
         try:
-            folder = read_policy_folder(args.policy)
+            folder = read_policy(args.policy)
         except ValueError as error:
             parser.error(f"argument --policy: {error}")
     try:

@@ -6,106 +6,18 @@ what is accepted, so a command line can refuse the run before it spawns a worker
 
 from __future__ import annotations
 
-import collections.abc
 import inspect
 import math
-import types
-import typing
 from collections.abc import Callable, Mapping
 from typing import Any
 
-import gymnasium
-from gymnasium.envs.registration import load_env_creator
-
+from acl_env.envs.kwargs import ConfigError, check_env_kwargs, env_creator
 from acl_env.training.config import NON_ALGO_KEYS, import_dotted, parse_python_literal
+
+__all__ = ["TRAINER_SET", "ConfigError", "check_env_kwargs", "check_hyperparams", "env_creator"]
 
 # Arguments of PPO.__init__ that the trainer sets itself, never the config.
 TRAINER_SET = ("self", "env", "tensorboard_log", "verbose", "seed", "device", "_init_setup_model")
-
-
-class ConfigError(ValueError):
-    """A configuration value that the trainer refuses; the message names it."""
-
-
-# --- env kwargs ----------------------------------------------------------------------------------
-
-
-def env_creator(env_id: str) -> Callable[..., gymnasium.Env]:
-    """The registered entry point of ``env_id``; an unknown id lists the ``acl_env`` ones."""
-    try:
-        spec = gymnasium.spec(env_id)
-    except gymnasium.error.Error:
-        known = sorted(k for k in gymnasium.registry if k.startswith("acl_env/"))
-        raise ConfigError(f"unknown env id {env_id!r} (registered: {', '.join(known)})") from None
-    if callable(spec.entry_point):
-        return spec.entry_point
-    return load_env_creator(spec.entry_point)
-
-
-def _type_name(hint: Any) -> str:
-    if isinstance(hint, type):
-        return hint.__name__
-    return str(hint).replace("typing.", "").replace("collections.abc.", "")
-
-
-def _matches(value: Any, hint: Any) -> bool:
-    """Whether ``value`` fits the annotation ``hint`` (the shapes used by env signatures)."""
-    if hint is Any:
-        return True
-    origin, args = typing.get_origin(hint), typing.get_args(hint)
-    if origin in (typing.Union, types.UnionType):
-        return any(_matches(value, arg) for arg in args)
-    if hint is type(None):
-        return value is None
-    if hint is bool:
-        return isinstance(value, bool)
-    if hint is int:
-        return isinstance(value, int) and not isinstance(value, bool)
-    if hint is float:
-        return isinstance(value, int | float) and not isinstance(value, bool)
-    if hint is str:
-        return isinstance(value, str)
-    if origin is tuple:
-        if not isinstance(value, list | tuple):
-            return False
-        if len(args) == 2 and args[1] is Ellipsis:
-            return all(_matches(item, args[0]) for item in value)
-        return len(value) == len(args) and all(map(_matches, value, args))
-    if origin in (list, collections.abc.Sequence):
-        return isinstance(value, list | tuple) and all(_matches(v, args[0]) for v in value)
-    if origin in (dict, collections.abc.Mapping):
-        return isinstance(value, Mapping) and all(
-            _matches(k, args[0]) and _matches(v, args[1]) for k, v in value.items()
-        )
-    return True  # an annotation this check does not model: the constructor decides
-
-
-def check_env_kwargs(env_id: str, env_kwargs: Mapping[str, Any]) -> gymnasium.Env:
-    """Check ``env_kwargs`` against the env's signature (names, annotated types), then build one
-    env with them so its own validation runs; return that env (the caller closes it)."""
-    creator = env_creator(env_id)
-    signature = inspect.signature(creator)
-    params = [p for p in signature.parameters if p != "self"]
-    unknown = sorted(set(env_kwargs) - set(params))
-    if unknown:
-        raise ConfigError(f"unknown env kwargs {unknown} for {env_id} (accepted: {params})")
-    try:
-        hints = typing.get_type_hints(creator.__init__ if inspect.isclass(creator) else creator)
-    except Exception:  # unresolvable annotations: leave the types to the constructor
-        hints = {}
-    for key, value in env_kwargs.items():
-        hint = hints.get(key)
-        if hint is not None and not _matches(value, hint):
-            raise ConfigError(
-                f"env kwarg {key} must be {_type_name(hint)}, got {value!r} "
-                f"({type(value).__name__})"
-            )
-    spec_kwargs = dict(gymnasium.spec(env_id).kwargs)
-    try:
-        return gymnasium.make(env_id, **{**spec_kwargs, **env_kwargs})
-    except (TypeError, ValueError) as error:
-        message = str(error).split(" was raised from the environment creator")[0]
-        raise ConfigError(f"env kwargs refused by {env_id}: {message}") from None
 
 
 # --- hyperparameters -----------------------------------------------------------------------------

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from acl_env import ACL_CLIMB_ID, shipped
+from acl_env import ACL_CLIMB_ID, pretrained, shipped
 from acl_env.training import cli, warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperparams
 from acl_env.training.config import (
@@ -28,7 +28,7 @@ from acl_env.training.config import (
     merge_env_kwargs,
     normalize_kwargs,
 )
-from acl_env.training.policy import read_policy_folder
+from acl_env.training.policy import read_sb3_folder
 from acl_env.training.runs import (
     ARGS_FILE,
     CONFIG_FILE,
@@ -365,8 +365,14 @@ def _check_init_from(
     entries, and at least one shared action (warm_start.py)."""
     from stable_baselines3 import PPO
 
+    if pretrained.is_pretrained(path):
+        raise _bad(
+            "--init-from",
+            f"{path} is a pretrained (numpy) policy; warm starts need a training run folder "
+            "(model.zip and its statistics)",
+        )
     try:
-        folder = read_policy_folder(path)
+        folder = read_sb3_folder(path)
     except ValueError as error:
         raise _bad("--init-from", str(error)) from None
     normalize = normalize_kwargs(hyperparams) is not None

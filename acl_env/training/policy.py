@@ -1,9 +1,11 @@
 """A trained policy folder, loaded for evaluation: model, frozen VecNormalize, its env config.
 
 A policy folder is a training run folder or a copy of its final files (``model.zip``,
-``vecnormalize.pkl``, ``config.yml``); see :mod:`acl_env.training.runs`. Stable-Baselines3 is
-imported only when a policy is loaded. Every problem with a folder raises ``ValueError`` with a
-message that names the file and what was expected, so command lines can refuse it up front.
+``vecnormalize.pkl``, ``config.yml``); see :mod:`acl_env.training.runs`. A pretrained folder
+(``policy.json``, :mod:`acl_env.pretrained`, as shipped) is read and played on numpy instead.
+Stable-Baselines3 is imported only when an SB3 policy is loaded. Every problem with a folder
+raises ``ValueError`` with a message that names the file and what was expected, so command lines
+can refuse it up front.
 """
 
 from __future__ import annotations
@@ -16,14 +18,13 @@ from typing import Any
 import gymnasium
 import numpy as np
 
+from acl_env import pretrained
+from acl_env.pretrained import PretrainedPolicy
+from acl_env.pretrained import SpaceMismatchError as SpaceMismatchError  # re-exported
 from acl_env.training.config import normalize_kwargs
 from acl_env.training.runs import CONFIG_FILE, latest_model, run_config
 
 Policy = Callable[[np.ndarray], np.ndarray]
-
-
-class SpaceMismatchError(ValueError):
-    """The model was trained on an env with other observation or action shapes."""
 
 
 @dataclass(frozen=True)
@@ -42,8 +43,25 @@ class PolicyFolder:
         return dict(self.hyperparams.get("env_kwargs") or {})
 
 
-def read_policy_folder(path: str | Path) -> PolicyFolder:
-    """Check a policy folder's files and read its config; ``ValueError`` names what is wrong."""
+def read_policy_folder(path: str | Path) -> PolicyFolder | PretrainedPolicy:
+    """Check a policy folder's files and read its config (:func:`read_sb3_folder`), or load a
+    pretrained folder (:func:`acl_env.pretrained.load_policy`); ``ValueError`` names what is
+    wrong. Both give ``path``, ``env_id``, ``env_kwargs`` and ``hyperparams``."""
+    if pretrained.is_pretrained(path):
+        return read_pretrained(path)
+    return read_sb3_folder(path)
+
+
+def read_pretrained(path: str | Path) -> PretrainedPolicy:
+    """A pretrained policy folder, its env id checked to be registered."""
+    policy = pretrained.load_policy(Path(path))
+    policy.check_registered()
+    return policy
+
+
+def read_sb3_folder(path: str | Path) -> PolicyFolder:
+    """Check an SB3 policy or run folder's files and read its config; ``ValueError`` names what
+    is wrong."""
     path = Path(path)
     if not path.is_dir():
         raise ValueError(f"{path} is not a folder")
@@ -72,19 +90,23 @@ def read_policy_folder(path: str | Path) -> PolicyFolder:
     return PolicyFolder(path, env_id, dict(hyperparams), model, vecnormalize)
 
 
-def load_policy(folder: PolicyFolder | str | Path, env: gymnasium.Env) -> Policy:
+def load_policy(folder: PolicyFolder | PretrainedPolicy | str | Path, env: gymnasium.Env) -> Policy:
     """Deterministic actions of the folder's newest model for ``env``, observations normalised by
-    its VecNormalize statistics frozen (``training=False``, ``norm_reward=False``).
+    its VecNormalize statistics frozen (``training=False``, ``norm_reward=False``); a pretrained
+    folder's on numpy (the same actions).
 
     ``ValueError`` if a file does not load, :class:`SpaceMismatchError` if the model's spaces
     do not match ``env``'s.
     """
+    if not isinstance(folder, PolicyFolder | PretrainedPolicy):
+        folder = read_policy_folder(folder)
+    if isinstance(folder, PretrainedPolicy):
+        folder.check_spaces(env)
+        return folder
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
-    if not isinstance(folder, PolicyFolder):
-        folder = read_policy_folder(folder)
     torch.set_num_threads(1)  # one small MLP forward per step; threads would fight the workers
     try:
         model = PPO.load(folder.model, device="cpu")

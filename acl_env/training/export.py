@@ -1,0 +1,214 @@
+"""Export an SB3 policy folder as a pretrained, pickle-free one (:mod:`acl_env.pretrained`).
+
+``python -m acl_env.training.export SB3_FOLDER OUT_FOLDER --name NAME [--record docs/eval.json]
+[--commit SHA]``
+
+Writes ``policy.npz`` (the actor's weights, float32, and VecNormalize's observation statistics)
+and ``policy.json`` (env id and training env kwargs, network, action bounds, the training recipe,
+steps, wall time and command, and a summary of the published evaluation ``--record``), each
+atomically. Needs the ``train`` extra (SB3, torch, PyYAML) to read the SB3 files; the result
+loads with numpy alone and gives the same deterministic actions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import pickle
+import shlex
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from acl_env.evaluation.baselines import on_benchmark_id
+from acl_env.io import atomic_write, read_json, write_json
+from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
+from acl_env.training import cli
+from acl_env.training.policy import PolicyFolder, read_sb3_folder
+from acl_env.training.runs import ARGS_FILE, SUMMARY_FILE
+
+# What policy.json summarises of each controller of a published evaluation record.
+SUMMARY_METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "falls")
+ACTIVATION_NAMES = {"Tanh": "tanh", "ReLU": "relu"}
+
+
+def actor_arrays(model: Any, source: Path) -> tuple[dict[str, np.ndarray], str, list[int]]:
+    """The actor of an SB3 PPO model as float32 arrays, its activation name and hidden widths;
+    ``ValueError`` for a policy numpy cannot replay (other extractor, squashing, gSDE)."""
+    from stable_baselines3.common.distributions import DiagGaussianDistribution
+    from stable_baselines3.common.torch_layers import FlattenExtractor
+    from torch import nn
+
+    policy = model.policy
+    if not isinstance(policy.pi_features_extractor, FlattenExtractor):
+        raise ValueError(f"{source}: features extractor {policy.pi_features_extractor} not flat")
+    if policy.squash_output or not isinstance(policy.action_dist, DiagGaussianDistribution):
+        raise ValueError(f"{source}: only a diagonal Gaussian policy without squashing exports")
+    arrays: dict[str, np.ndarray] = {}
+    widths: list[int] = []
+    activations: set[str] = set()
+    layers = list(policy.mlp_extractor.policy_net)
+    for module in layers:
+        if isinstance(module, nn.Linear):
+            i = len(widths)
+            arrays[f"hidden_{i}_weight"] = module.weight.detach().cpu().numpy()
+            arrays[f"hidden_{i}_bias"] = module.bias.detach().cpu().numpy()
+            widths.append(module.out_features)
+        elif type(module).__name__ in ACTIVATION_NAMES:
+            activations.add(ACTIVATION_NAMES[type(module).__name__])
+        else:
+            raise ValueError(f"{source}: layer {module} of the policy network does not export")
+    pairs = list(zip(layers[::2], layers[1::2], strict=False))
+    alternating = len(layers) == 2 * len(widths) and all(
+        isinstance(linear, nn.Linear) and not isinstance(act, nn.Linear) for linear, act in pairs
+    )
+    if not alternating or len(activations) != 1:
+        raise ValueError(f"{source}: the policy network is not Linear, activation, ... alike")
+    arrays["action_weight"] = policy.action_net.weight.detach().cpu().numpy()
+    arrays["action_bias"] = policy.action_net.bias.detach().cpu().numpy()
+    arrays["log_std"] = policy.log_std.detach().cpu().numpy()
+    arrays = {k: np.asarray(v, dtype=np.float32) for k, v in arrays.items()}
+    return arrays, activations.pop(), widths
+
+
+def normalization_arrays(path: Path) -> dict[str, np.ndarray]:
+    """VecNormalize's observation statistics from ``vecnormalize.pkl`` (float64 as it keeps them),
+    with its ``clip_obs`` and ``epsilon``."""
+    try:
+        stats = pickle.loads(path.read_bytes())  # the trusted SB3 file being converted
+        rms = stats.obs_rms
+        return {
+            "obs_mean": np.asarray(rms.mean, dtype=np.float64),
+            "obs_var": np.asarray(rms.var, dtype=np.float64),
+            "clip_obs": np.asarray(stats.clip_obs, dtype=np.float64),
+            "epsilon": np.asarray(stats.epsilon, dtype=np.float64),
+        }
+    except Exception as error:  # unpickling garbage raises anything
+        raise ValueError(f"{path} is not VecNormalize statistics ({error})") from error
+
+
+def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> dict[str, Any]:
+    """The recipe entry, steps, wall time, command and commit of the run that trained it."""
+    args, summary = (
+        read_json(folder.path / file) if (folder.path / file).is_file() else {}
+        for file in (ARGS_FILE, SUMMARY_FILE)
+    )
+    argv = args.get("argv")
+    return {
+        "hyperparams": folder.hyperparams,
+        "command": None if argv is None else shlex.join(["acl-train", *argv]),
+        "seed": (args.get("settings") or {}).get("seed"),
+        "steps": summary.get("total_steps", steps),
+        "wall_time_s": summary.get("wall_time_s"),
+        "interrupted": summary.get("interrupted"),
+        "commit": commit or args.get("commit") or summary.get("commit"),
+    }
+
+
+def evaluation_summary(record_path: Path) -> dict[str, Any]:
+    """Per controller of a published evaluation record, the mean and 95 % half-width of
+    :data:`SUMMARY_METRICS` (and the number of falls)."""
+    from acl_env.evaluation.baselines import shown_path
+    from acl_env.evaluation.records import read_record
+
+    record = read_record(record_path)
+    controllers: dict[str, Any] = {}
+    episodes = None
+    for name, summary in record["controllers"].items():
+        entry: dict[str, Any] = {}
+        for metric in SUMMARY_METRICS:
+            value = summary.get(metric) or {}
+            entry[metric] = {"mean": value.get("mean"), "half_width": value.get("half_width")}
+            if "count" in value:
+                entry[metric]["count"] = value["count"]
+        controllers[name] = entry
+        episodes = summary.get("episodes", episodes)
+    return {
+        "record": shown_path(record_path),
+        "policy": record.get("policy"),
+        "episodes": episodes,
+        "interval": "mean and Student-t 95 % half-width over the episodes",
+        "controllers": controllers,
+    }
+
+
+def export_policy(
+    sb3_folder: str | Path,
+    out_folder: str | Path,
+    name: str,
+    record: str | Path | None = None,
+    commit: str | None = None,
+) -> Path:
+    """Write ``policy.npz`` and ``policy.json`` of the SB3 folder's newest model into
+    ``out_folder`` (made if missing); return it. ``ValueError`` naming the file that does not
+    read or a policy that does not export."""
+    import stable_baselines3
+    import torch
+    from stable_baselines3 import PPO
+
+    folder = read_sb3_folder(sb3_folder)
+    try:
+        model = PPO.load(folder.model, device="cpu")
+    except Exception as error:  # a zip that is not an SB3 model fails in many ways
+        raise ValueError(f"{folder.model} is not a PPO model ({error})") from error
+    arrays, activation, widths = actor_arrays(model, folder.model)
+    if folder.vecnormalize is not None:
+        arrays |= normalization_arrays(folder.vecnormalize)
+    space = model.action_space
+    # The registered id whose defaults are the task it was trained on, where there is one.
+    env_id, env_kwargs = on_benchmark_id(folder.env_id, folder.env_kwargs)
+    metadata = {
+        "format": FORMAT,
+        "name": name,
+        "env_id": env_id,
+        "env_kwargs": env_kwargs,
+        "activation": activation,
+        "net_arch": widths,
+        "observation_shape": list(model.observation_space.shape),
+        "action_shape": list(space.shape),
+        "action_low": [float(v) for v in np.ravel(space.low)],
+        "action_high": [float(v) for v in np.ravel(space.high)],
+        "normalize_observations": folder.vecnormalize is not None,
+        "training": training_summary(folder, int(model.num_timesteps), commit),
+        "evaluation": None if record is None else evaluation_summary(Path(record)),
+        "exported_with": {
+            "stable_baselines3": stable_baselines3.__version__,
+            "torch": torch.__version__,
+            "numpy": np.__version__,
+        },
+    }
+    out = Path(out_folder)
+    out.mkdir(parents=True, exist_ok=True)
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    atomic_write(out / WEIGHTS_FILE, buffer.getvalue())
+    write_json(out / METADATA_FILE, metadata)  # last: it marks the folder as pretrained
+    return out
+
+
+def main(argv: Sequence[str] | None = None) -> Path:
+    """The command line: export, print where."""
+    parser = cli.ArgumentParser(
+        prog="python -m acl_env.training.export",
+        description="Export an SB3 policy folder as a pickle-free pretrained one (npz + JSON).",
+    )
+    parser.add_argument("sb3_folder", type=cli.existing_dir, help="SB3 run or policy folder")
+    parser.add_argument("out_folder", type=Path, help="where policy.npz and policy.json go")
+    parser.add_argument("--name", required=True, help="the policy's name")
+    parser.add_argument("--record", type=Path, help="its published evaluation record (JSON)")
+    parser.add_argument("--commit", help="the git commit it was trained at")
+    args: argparse.Namespace = parser.parse_args(argv)
+    if args.record is not None and not args.record.is_file():
+        parser.error(f"argument --record: {args.record} is not a file")
+    try:
+        out = export_policy(args.sb3_folder, args.out_folder, args.name, args.record, args.commit)
+    except (ValueError, KeyError) as error:
+        parser.error(str(error))
+    print(f"{out / WEIGHTS_FILE}\n{out / METADATA_FILE}")
+    return out
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,72 @@
+"""The main job from a plain install: a wheel, no torch, no Stable-Baselines3, no PyYAML, run
+from a folder outside the repository."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+# Imported first by the interpreter below (sitecustomize): the train extra's packages fail to
+# import, as on a machine where they were never installed.
+BLOCKER = """
+import importlib.abc, sys
+BLOCKED = ("torch", "stable_baselines3", "yaml", "optuna", "tensorboard", "rl_zoo3")
+class Blocker(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path=None, target=None):
+        if name.split(".")[0] in BLOCKED:
+            raise ImportError(f"{name} is not installed (plain install)")
+        return None
+sys.meta_path.insert(0, Blocker())
+"""
+
+
+@pytest.mark.slow
+def test_wheel_without_torch_evaluates_the_shipped_policy(
+    tmp_path: Path, clean_source: Path
+) -> None:
+    wheel_dir, target, blocker = tmp_path / "wheel", tmp_path / "site", tmp_path / "blocker"
+    build = [
+        "wheel",
+        "--no-deps",
+        "--no-build-isolation",
+        "-q",
+        "-w",
+        str(wheel_dir),
+        str(clean_source),
+    ]
+    subprocess.run([sys.executable, "-m", "pip", *build], check=True)
+    (wheel,) = wheel_dir.glob("acl_env-*.whl")
+    install = ["install", "--no-deps", "-q", "-t", str(target), str(wheel)]
+    subprocess.run([sys.executable, "-m", "pip", *install], check=True)
+    blocker.mkdir()
+    (blocker / "sitecustomize.py").write_text(BLOCKER)
+    work = tmp_path / "elsewhere"
+    work.mkdir()
+    env = {
+        "PYTHONPATH": os.pathsep.join([str(blocker), str(target)]),
+        "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
+        "MUJOCO_GL": "egl",
+    }
+    probe = subprocess.run(
+        [sys.executable, "-c", "import torch"], cwd=work, env=env, capture_output=True, text=True
+    )
+    assert probe.returncode != 0 and "not installed" in probe.stderr
+    run = subprocess.run(
+        [sys.executable, "-m", "acl_env.evaluation", "--episodes", "2", "--json", "e.json"],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "climb per gait cycle" in run.stdout and "policy" in run.stdout
+    record = json.loads((work / "e.json").read_text())
+    assert record["controllers"]["policy"]["climb_per_gait_cycle_m"]["n"] == 2
+    assert str(target) in record["policy"] or record["policy"].startswith("acl_env")

@@ -1,0 +1,329 @@
+"""Pretrained policies (:mod:`acl_env.pretrained`): pickle-free files, numpy alone, and the same
+deterministic actions as the SB3 policy they were exported from (:mod:`acl_env.training.export`).
+
+The shipped policies' SB3 files are not shipped; the tests that compare against them take them
+from the git history (skipped where there is none, e.g. in a shallow clone or an sdist).
+"""
+
+from __future__ import annotations
+
+import json
+import pickle
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import acl_env
+from acl_env import pretrained, shipped
+from acl_env.evaluation import baselines
+from acl_env.evaluation import cli as evaluate_cli
+from acl_env.training import export
+
+ROOT = Path(__file__).resolve().parents[1]
+SB3_FILES = ("model.zip", "vecnormalize.pkl", "config.yml", "args.json", "summary.json")
+# SB3 folders of the repository's experiments: one with the cadence action, one non-rolling.
+EXPERIMENT_FOLDERS = [
+    ROOT / "experiments" / "acl_cadence" / "acl_cadence_tuned_gait",
+    ROOT / "experiments" / "noroll_v3" / "noroll_v3_seed1",
+]
+STEPS = 300  # observations per policy, from rollouts of its own env
+
+
+def _git(*args: str) -> bytes:
+    return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, check=True).stdout
+
+
+@pytest.fixture(scope="module")
+def sb3_shipped(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """The shipped policies' SB3 folders as they were before the export, from git history."""
+    folders = {}
+    root = tmp_path_factory.mktemp("sb3")
+    for name in shipped.list_policies():
+        rel = f"acl_env/data/policies/{name}"
+        try:
+            # The last commit that touched the model: it added it, or its parent had it.
+            rev = _git("rev-list", "-1", "HEAD", "--", f"{rel}/model.zip").decode().strip()
+        except (OSError, subprocess.CalledProcessError):
+            pytest.skip("no git history here")
+        if not rev:
+            pytest.skip(f"git history has no {rel}/model.zip")
+        folder = root / name
+        folder.mkdir()
+        for file in SB3_FILES:
+            for ref in (rev, f"{rev}^"):
+                try:
+                    (folder / file).write_bytes(_git("show", f"{ref}:{rel}/{file}"))
+                    break
+                except subprocess.CalledProcessError:
+                    continue
+            else:
+                pytest.skip(f"git history has no {rel}/{file}")
+        folders[name] = folder
+    return folders
+
+
+def _observations(policy: pretrained.PretrainedPolicy, seed: int = 0) -> np.ndarray:
+    """``STEPS`` observations of the policy acting in its training env (randomised, so that
+    they cover poles and gains), restarting after a fall."""
+    env = gym.make(policy.env_id, **policy.env_kwargs)
+    obs, _ = env.reset(seed=seed)
+    rows = []
+    for step in range(STEPS):
+        rows.append(obs)
+        obs, _, terminated, truncated, _ = env.step(policy(obs))
+        if terminated or truncated:
+            obs, _ = env.reset(seed=seed + step + 1)
+    env.close()
+    return np.asarray(rows)
+
+
+def _sb3_actions(folder: Path, observations: np.ndarray) -> np.ndarray:
+    """SB3's deterministic actions on VecNormalize-normalised observations (frozen), one by one
+    as evaluation calls it."""
+    from stable_baselines3 import PPO
+
+    model = PPO.load(folder / "model.zip", device="cpu")
+    stats = pickle.loads((folder / "vecnormalize.pkl").read_bytes())
+    stats.training = False
+    return np.asarray(
+        [model.predict(stats.normalize_obs(o), deterministic=True)[0] for o in observations]
+    )
+
+
+def _assert_exports_exactly(sb3_folder: Path, out: Path, name: str) -> pretrained.PretrainedPolicy:
+    export.export_policy(sb3_folder, out, name)
+    assert sorted(p.name for p in out.iterdir()) == ["policy.json", "policy.npz"]
+    policy = pretrained.load_policy(out)
+    observations = _observations(policy)
+    expected = _sb3_actions(sb3_folder, observations)
+    single = np.asarray([policy(o) for o in observations])
+    batch, state = policy.predict(observations)
+    assert state is None
+    assert single.dtype == batch.dtype == expected.dtype == np.float32
+    np.testing.assert_allclose(single, expected, rtol=0, atol=1e-5)
+    np.testing.assert_allclose(batch, expected, rtol=0, atol=1e-5)
+    return policy
+
+
+@pytest.mark.parametrize("name", shipped.list_policies())
+def test_shipped_policy_is_the_export_of_its_sb3_policy(
+    name: str, sb3_shipped: dict[str, Path], tmp_path: Path
+) -> None:
+    """Exported again from the SB3 files it was made from, the shipped policy gives SB3's
+    deterministic actions to 1e-5, and its arrays and metadata are that export's."""
+    policy = _assert_exports_exactly(sb3_shipped[name], tmp_path / name, name)
+    ship = pretrained.load_policy(name)
+    with (
+        np.load(ship.path / pretrained.WEIGHTS_FILE) as shipped_npz,
+        np.load(policy.path / pretrained.WEIGHTS_FILE) as fresh_npz,
+    ):
+        assert shipped_npz.files == fresh_npz.files
+        for key in shipped_npz.files:
+            assert np.array_equal(shipped_npz[key], fresh_npz[key]), key
+    differ = {k for k in ship.metadata if ship.metadata[k] != policy.metadata.get(k)}
+    assert differ <= {"evaluation", "exported_with"}, differ
+
+
+@pytest.mark.parametrize("folder", EXPERIMENT_FOLDERS, ids=lambda p: p.name)
+def test_export_gives_the_sb3_policys_deterministic_actions(folder: Path, tmp_path: Path) -> None:
+    _assert_exports_exactly(folder, tmp_path / folder.name, folder.name)
+
+
+@pytest.mark.parametrize("name", shipped.list_policies())
+def test_evaluation_builds_the_same_controllers_from_either_folder(
+    name: str, sb3_shipped: dict[str, Path]
+) -> None:
+    """Env ids, env kwargs, notes: all the same for the pretrained folder as for its SB3 one."""
+    from acl_env.training.policy import read_sb3_folder
+
+    ship, sb3 = baselines.read_policy(shipped.policy_dir(name)), read_sb3_folder(sb3_shipped[name])
+    assert isinstance(ship, pretrained.PretrainedPolicy)
+    # The pretrained policy names its benchmark id (whose defaults are its task); the SB3 folder
+    # the id and kwargs it was trained with: the same task, spelled two ways.
+    assert ship.env_id in acl_env.BENCHMARK_BASES and ship.hyperparams == sb3.hyperparams
+    assert baselines.spelled_on_base(ship.env_id, ship.env_kwargs) == (
+        sb3.env_id,
+        sb3.env_kwargs,
+    )
+    built = [
+        baselines.build_controllers(f, {}, None, baselines.DEFAULT_TUNED_GAITS) for f in (ship, sb3)
+    ]
+    (ours, our_notes), (theirs, their_notes) = built
+    assert our_notes == their_notes
+    assert [c.policy_dir for c in ours] == [str(ship.path), *[None] * (len(ours) - 1)]
+    assert [(c.name, c.env_id, c.env_kwargs, c.phase_rate) for c in ours] == [
+        (c.name, c.env_id, c.env_kwargs, c.phase_rate) for c in theirs
+    ]
+
+
+@pytest.mark.parametrize("name", shipped.list_policies())
+def test_a_shipped_policy_fits_its_registered_env(name: str) -> None:
+    policy = acl_env.load_policy(name)
+    assert name in acl_env.list_policies() and policy.name == name
+    assert policy.env_id in gym.registry
+    assert policy.metadata["format"] == pretrained.FORMAT
+    assert policy.metadata["training"]["steps"] > 0
+    assert set(policy.metadata["evaluation"]["controllers"]["policy"]) == set(
+        export.SUMMARY_METRICS
+    )
+    env = gym.make(policy.env_id, **policy.env_kwargs)
+    assert policy.observation_shape == env.observation_space.shape
+    assert policy.action_shape == env.action_space.shape
+    obs, _ = env.reset(seed=0)
+    action = policy(obs)
+    assert action.shape == env.action_space.shape and env.action_space.contains(action)
+    assert np.array_equal(policy.predict(obs)[0], action)
+    assert np.array_equal(policy.predict(obs[None])[0], action[None])
+    noisy, _ = policy.predict(obs, deterministic=False)
+    assert env.action_space.contains(noisy) and not np.array_equal(noisy, action)
+    env.step(action)
+    env.close()
+    with pytest.raises(ValueError, match="observation of shape"):
+        policy.predict(obs[:-1])
+    # No pickles shipped.
+    assert sorted(p.name for p in policy.path.iterdir()) == ["policy.json", "policy.npz"]
+
+
+def _copy(tmp_path: Path, name: str = shipped.DEFAULT_POLICY) -> Path:
+    copy = tmp_path / "copy"
+    shutil.copytree(shipped.policy_dir(name), copy)
+    return copy
+
+
+def _edit_metadata(folder: Path, **changes: object) -> None:
+    path = folder / pretrained.METADATA_FILE
+    metadata = json.loads(path.read_text())
+    for key, value in changes.items():
+        if value is None:
+            del metadata[key]
+        else:
+            metadata[key] = value
+    path.write_text(json.dumps(metadata))
+
+
+def _edit_arrays(folder: Path, **changes: object) -> None:
+    path = folder / pretrained.WEIGHTS_FILE
+    with np.load(path) as npz:
+        arrays = {k: npz[k] for k in npz.files}
+    for key, value in changes.items():
+        if value is None:
+            del arrays[key]
+        else:
+            arrays[key] = value
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)
+
+
+MALFORMED = {
+    "no policy.json": (lambda f: (f / "policy.json").unlink(), "policy.json"),
+    "no policy.npz": (lambda f: (f / "policy.npz").unlink(), "policy.npz"),
+    "policy.json not JSON": (lambda f: (f / "policy.json").write_text("{"), "policy.json"),
+    "policy.json a list": (lambda f: (f / "policy.json").write_text("[]"), "policy.json"),
+    "unknown format": (lambda f: _edit_metadata(f, format="acl_env.policy/9"), "policy.json"),
+    "no env_id": (lambda f: _edit_metadata(f, env_id=None), "policy.json"),
+    "bad activation": (lambda f: _edit_metadata(f, activation="gelu"), "policy.json"),
+    "bad net_arch": (lambda f: _edit_metadata(f, net_arch=[128, -1]), "policy.json"),
+    "short bounds": (lambda f: _edit_metadata(f, action_low=[-1.0]), "policy.json"),
+    "policy.npz garbage": (lambda f: (f / "policy.npz").write_bytes(b"PK garbage"), "policy.npz"),
+    "missing array": (lambda f: _edit_arrays(f, hidden_1_bias=None), "policy.npz"),
+    "wrong shape": (lambda f: _edit_arrays(f, action_bias=np.zeros(3)), "policy.npz"),
+    "pickled array": (
+        lambda f: _edit_arrays(f, log_std=np.array([{"a": 1}] * 21, dtype=object)),
+        "policy.npz",
+    ),
+    "non-finite": (
+        lambda f: _edit_arrays(f, obs_var=np.full(89, np.nan)),
+        "policy.npz",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", MALFORMED)
+def test_a_malformed_folder_is_refused_naming_the_file(case: str, tmp_path: Path) -> None:
+    folder = _copy(tmp_path)
+    breaks, file = MALFORMED[case]
+    breaks(folder)
+    with pytest.raises(ValueError, match=file.replace(".", r"\.")) as error:
+        pretrained.load_policy(folder)
+    assert str(folder) in str(error.value)
+
+
+def test_a_name_that_is_neither_shipped_nor_a_folder_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="acl_climb_ppo"):
+        pretrained.load_policy("no_such_policy")
+    with pytest.raises(ValueError, match="not a pretrained policy"):
+        pretrained.load_policy(tmp_path)
+
+
+def test_an_unregistered_env_or_other_spaces_are_refused(tmp_path: Path) -> None:
+    folder = _copy(tmp_path)
+    _edit_metadata(folder, env_id="acl_env/NoSuchEnv-v0")
+    with pytest.raises(ValueError, match="not registered"):
+        baselines.read_policy(folder)
+    policy = pretrained.load_policy(shipped.DEFAULT_POLICY)
+    env = gym.make(policy.env_id, **{**policy.env_kwargs, "phase_rate_range": None})
+    with pytest.raises(pretrained.SpaceMismatchError, match="action_space"):
+        policy.check_spaces(env)
+    env.close()
+
+
+def test_the_loader_and_evaluation_need_neither_torch_nor_yaml() -> None:
+    """A shipped policy loads and acts, and evaluation builds and plays its controllers, with no
+    torch, SB3 or PyYAML imported."""
+    probe = """
+import sys
+import acl_env.pretrained as pretrained
+policy = pretrained.load_policy("acl_climb_noroll_ppo")
+from acl_env.evaluation import baselines, run_episode
+folder = baselines.read_policy(policy.path)
+controllers, _ = baselines.build_controllers(folder, {}, None, baselines.DEFAULT_TUNED_GAITS)
+env = controllers[0].make_env(cycles_per_episode=1, steps_per_cycle=20)
+episode = run_episode(env, controllers[0].make_policy(env), 0)
+assert episode.steps == 20, episode.steps
+print(sorted(m for m in ("torch", "stable_baselines3", "yaml") if m in sys.modules))
+"""
+    out = subprocess.run(
+        [sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, check=True
+    )
+    assert out.stdout.split()[-1] == "[]", out.stdout
+
+
+def test_acl_evaluate_takes_a_shipped_name_or_a_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    parser = evaluate_cli.make_parser()
+    assert parser.parse_args([]).policy == shipped.policy_dir()
+    for name in shipped.list_policies():
+        assert parser.parse_args(["--policy", name]).policy == shipped.policy_dir(name)
+    assert parser.parse_args(["--policy", str(tmp_path)]).policy == tmp_path
+    with pytest.raises(SystemExit) as exit_info:
+        parser.parse_args(["--policy", "no_such_policy"])
+    assert exit_info.value.code == 2
+    assert "acl_climb_noroll_ppo" in capsys.readouterr().err
+    folder = _copy(tmp_path)
+    (folder / "policy.npz").write_bytes(b"garbage")
+    with pytest.raises(SystemExit) as exit_info:
+        evaluate_cli.main(["--policy", str(folder), "--episodes", "1", "--no-progress-bar"])
+    err = capsys.readouterr().err.strip()
+    assert exit_info.value.code == 2 and len(err.splitlines()) == 1
+    assert "--policy" in err and "policy.npz" in err
+
+
+def test_the_exporter_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """It writes both files and prints them; a folder without SB3 files is refused in one line."""
+    source, out = EXPERIMENT_FOLDERS[1], tmp_path / "out"
+    record = ROOT / "docs" / "eval_noroll.json"
+    export.main([str(source), str(out), "--name", "seed1", "--record", str(record)])
+    assert capsys.readouterr().out.split() == [str(out / "policy.npz"), str(out / "policy.json")]
+    metadata = json.loads((out / "policy.json").read_text())
+    assert metadata["name"] == "seed1" and metadata["evaluation"]["record"].endswith(record.name)
+    assert metadata["training"]["command"].startswith("acl-train ")
+    with pytest.raises(SystemExit) as exit_info:
+        export.main([str(out), str(tmp_path / "again"), "--name", "x"])
+    assert exit_info.value.code == 2
+    assert not (tmp_path / "again").exists()

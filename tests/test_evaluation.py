@@ -333,7 +333,8 @@ def test_the_shipped_policy_gets_every_metric_and_controller(tmp_path: Path) -> 
     from acl_env.training.policy import read_policy_folder
 
     document = evaluate_cli.main(["--episodes", "2", "--env-kwargs", *SHORT_ARGS, *QUIET])
-    sets_cadence = read_policy_folder(DEFAULT_POLICY).env_kwargs.get("phase_rate_range")
+    folder = read_policy_folder(DEFAULT_POLICY)
+    sets_cadence = baselines.env_setting(folder.env_id, folder.env_kwargs, "phase_rate_range")
     expected = FIVE if sets_cadence else FIVE - {"open_loop_acl_same_cadence"}
     assert document["controllers"].keys() == expected, document["notes"]
     for summary in document["controllers"].values():
@@ -709,6 +710,8 @@ def test_every_registered_task_has_its_baselines() -> None:
         assert baselines.default_tuned_key(env_id, task.non_rolling) == task.tuned_key
     expected = {
         "acl_env/ACLClimb-v1": "acl",
+        "acl_env/ACLClimb-v2": "acl",
+        "acl_env/ACLClimbNoRoll-v4": "acl_noroll",
         "acl_env/ACLClimbNoRoll-v3": "acl_noroll",
         "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
         "acl_env/RollingHelixClimb-v1": "acl",

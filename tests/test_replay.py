@@ -31,3 +31,28 @@ def test_shipped_acl_policy_replays_its_published_evaluation(name: str) -> None:
     for metric in METRICS:
         expected = recorded[metric]["values"][0]
         assert metrics[metric] == pytest.approx(expected, rel=1e-3), (name, metric)
+
+
+PUBLISHED = {"acl_climb_ppo": "eval.json", "acl_climb_noroll_ppo": "eval_noroll.json"}
+
+
+@pytest.mark.replay
+@pytest.mark.parametrize("name", shipped.list_policies())
+def test_shipped_policy_climbs_as_published_on_its_own_id(name: str) -> None:
+    """``gym.make(policy.env_id)`` with no keyword arguments is the policy's task: it takes the
+    policy's observations and actions, and the policy climbs there what its published record
+    says on the record's first seed."""
+    import gymnasium
+
+    import acl_env
+
+    policy = acl_env.load_policy(name)
+    env = gymnasium.make(policy.env_id)
+    assert env.observation_space.shape == tuple(policy.metadata["observation_shape"])
+    assert env.action_space.shape == tuple(policy.metadata["action_shape"])
+    record = records.read_record(RECORD.parent / PUBLISHED[name])
+    recorded = records.controller_summary(record, "policy")
+    episode = run_episode(env, policy, recorded["seeds"][0])
+    expected = recorded["climb_per_gait_cycle_m"]["values"][0]
+    assert episode.metrics()["climb_per_gait_cycle_m"] == pytest.approx(expected, rel=1e-3)
+    assert not episode.fell

@@ -1,0 +1,92 @@
+"""The README's results tables say what the published records say (docs/eval.json and
+docs/eval_noroll.json, made by benchmarks/regenerate.py): a regeneration that changes a number
+fails here until the README is updated."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from acl_env.evaluation import records
+
+ROOT = Path(__file__).resolve().parents[1]
+ROWS = {
+    "eval.json": {
+        "residual PPO (shipped)": "policy",
+        "tuned ACL at the policy's cadence": "open_loop_acl_same_cadence",
+        "tuned ACL": "open_loop_tuned",
+        "ACL, the paper's default gait": "open_loop_acl",
+        "rolling helix": "open_loop_rolling_helix",
+    },
+    "eval_noroll.json": {
+        "residual PPO (shipped)": "policy",
+        "tuned non-rolling ACL (its gait)": "open_loop_tuned",
+        "rolling helix (rolls: 360° of skin touched)": "open_loop_rolling_helix",
+    },
+}
+# Columns of each table: metric, scale, decimals (None: the largest value, as a whole number).
+COLUMNS = {
+    "eval.json": [
+        ("climb_per_gait_cycle_m", 100, 2),
+        ("slip_per_m", 1, 3),
+        ("energy_per_m", 1, 0),
+    ],
+    "eval_noroll.json": [
+        ("climb_per_gait_cycle_m", 100, 2),
+        ("slip_per_m", 1, 2),
+        ("energy_per_m", 1, 0),
+        ("touched_arc_deg", 1, None),
+    ],
+}
+
+
+def _table_rows(text: str, header: str) -> dict[str, list[str]]:
+    """The rows of the README table whose first header cell is ``header``, by first cell."""
+    lines = text.splitlines()
+    start = next(
+        i
+        for i, line in enumerate(lines[:-1])
+        if line.startswith(f"| `{header}` |") and lines[i + 1].startswith("|---")
+    )
+    rows = {}
+    for line in lines[start + 2 :]:
+        if not line.startswith("|"):
+            break
+        cells = [cell.strip().strip("*") for cell in line.strip("|").split("|")]
+        rows[cells[0]] = cells[1:]
+    return rows
+
+
+@pytest.mark.parametrize(
+    ("record_name", "header"),
+    [("eval.json", "acl_env/ACLClimb-v2"), ("eval_noroll.json", "acl_env/ACLClimbNoRoll-v4")],
+)
+def test_readme_results_table_is_its_record(record_name: str, header: str) -> None:
+    record = records.read_record(ROOT / "docs" / record_name)
+    rows = _table_rows((ROOT / "README.md").read_text(), header)
+    assert set(rows) == set(ROWS[record_name])
+    for label, controller in ROWS[record_name].items():
+        summary = records.controller_summary(record, controller)
+        cells = rows[label]
+        for cell, (metric, scale, decimals) in zip(cells, COLUMNS[record_name], strict=False):
+            if decimals is None:
+                expected = f"{max(summary[metric]['values']):.0f}"
+            else:
+                mean, half = summary[metric]["mean"] * scale, summary[metric]["half_width"] * scale
+                expected = f"{mean:.{decimals}f} ± {half:.{decimals}f}"
+            assert cell == expected, (label, metric)
+        falls = summary["falls"]
+        assert cells[-1] == f"{round(falls['mean'] * falls['n'])}/{falls['n']}", label
+
+
+def test_readme_paired_sentence_is_the_record() -> None:
+    """The non-rolling policy's paired differences over its gait, as the README states them."""
+    paired = records.read_record(ROOT / "docs" / "eval_noroll.json")["paired_vs_policy"]
+    climb, slip = (paired["open_loop_tuned"][m] for m in ("climb_per_gait_cycle_m", "slip_per_m"))
+    text = " ".join((ROOT / "README.md").read_text().split())
+    sentence = re.search(r"climbs \+([\d.]+) ± ([\d.]+) cm per gait cycle more than its gait", text)
+    assert sentence is not None
+    assert sentence.groups() == (f"{climb['mean'] * 100:.2f}", f"{climb['half_width'] * 100:.2f}")
+    assert f"slides {-slip['mean']:.2f} ± {slip['half_width']:.2f} m less per metre" in text

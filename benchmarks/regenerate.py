@@ -55,6 +55,10 @@ RECORDS: dict[str, Record] = {
         ("docs/eval_noroll.json",),
         f"acl-evaluate --policy {NOROLL_POLICY} --json docs/eval_noroll.json --markdown",
     ),
+    "eval_open_loop": Record(
+        ("docs/eval_open_loop.json",),
+        "acl-evaluate --no-policy --json docs/eval_open_loop.json --markdown",
+    ),
     "open_loop": Record(
         ("docs/open_loop.json",),
         "python benchmarks/open_loop.py --json docs/open_loop.json",

@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
@@ -21,6 +20,7 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
 from acl_env.constants import SIDE_CAMERA, TRACK_CAMERA
+from acl_env.envs.lifecycle import no_display_reason
 from acl_env.evaluation import run_episode, zero_policy
 
 ENV_IDS = {"acl": ACL_CLIMB_ID, "rolling_helix": ROLLING_HELIX_CLIMB_ID}
@@ -92,26 +92,6 @@ def main(argv: list[str] | None = None) -> None:
         imageio.mimwrite(args.video, frames, fps=int(env.metadata["render_fps"]) * 4)
         print(f"wrote {args.video} ({len(frames)} frames, 4x real time)")
     env.close()
-
-
-def no_display_reason(environ: Mapping[str, str] | None = None, platform: str | None = None) -> str:
-    """Why MuJoCo's interactive viewer cannot open here, or ``""`` when it may.
-
-    The viewer needs a window (GLFW): on Linux a display server, named by ``DISPLAY`` (X11) or
-    ``WAYLAND_DISPLAY``; and ``MUJOCO_GL`` set to an offscreen backend (``egl``, ``osmesa``)
-    rules windows out anywhere. Checked before anything opens a window, since GLFW aborts the
-    process (exit 134) instead of raising when no display is there.
-    """
-    environ = os.environ if environ is None else environ
-    platform = sys.platform if platform is None else platform
-    backend = environ.get("MUJOCO_GL", "").strip().lower()
-    if backend in ("egl", "osmesa"):
-        return f"MUJOCO_GL={backend} selects offscreen rendering, which has no window"
-    if platform.startswith("linux") and not (
-        environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")
-    ):
-        return "no display (neither DISPLAY nor WAYLAND_DISPLAY is set)"
-    return ""
 
 
 def _write_snapshot(env: gym.Env, path: str) -> None:

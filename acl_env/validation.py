@@ -4,7 +4,9 @@ Every check raises ``TypeError`` for a value of the wrong kind (a string where a
 expected, ``1`` where a bool is, a scalar where a pair is) and ``ValueError`` for a value of the
 right kind outside its range; both messages name the argument and say what is accepted. Numbers
 are ``int``, ``float`` or NumPy scalars, never ``bool`` (``True`` is not a pole radius) and never
-strings (``"0.5"`` is refused rather than parsed: parsing belongs to the command line).
+strings (``"0.5"`` is refused rather than parsed: parsing belongs to the command line). An integer
+too large for a float (``10**400``) is a number out of range: a ``ValueError`` naming the argument,
+never Python's bare ``OverflowError``; messages show such values abbreviated (:func:`shown`).
 """
 
 from __future__ import annotations
@@ -19,8 +21,26 @@ import numpy as np
 T = TypeVar("T")
 
 
+SHOWN_CHARS = 80  # longest value a message quotes; the rest is elided
+
+
+def shown(value: object) -> str:
+    """``repr(value)`` for an error message: at most :data:`SHOWN_CHARS` characters, a huge
+    integer as its number of digits (Python refuses to print one of over 4300), and never an
+    exception of its own."""
+    if isinstance(value, Integral) and not _is_bool(value):
+        bits = abs(int(value)).bit_length()
+        if bits > 64:
+            return f"an integer of about {int(bits * math.log10(2)) + 1} digits"
+    try:
+        text = repr(value)
+    except Exception:  # a repr that fails (a huge integer inside a list): name the type
+        text = f"<{type(value).__name__}>"
+    return text if len(text) <= SHOWN_CHARS else f"{text[: SHOWN_CHARS - 3]}..."
+
+
 def _kind(value: object) -> str:
-    return f"{value!r} ({type(value).__name__})"
+    return f"{shown(value)} ({type(value).__name__})"
 
 
 def _is_bool(value: object) -> bool:
@@ -38,10 +58,13 @@ def check_finite(name: str, value: object) -> float:
     """``value`` as a float: a real number (not a bool, not a string), NaN and inf refused."""
     if _is_bool(value) or not isinstance(value, Real):
         raise TypeError(f"{name} must be a real number, got {_kind(value)}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value}")
-    return value
+    try:
+        number = float(value)
+    except OverflowError:  # an int (or Fraction) beyond the largest float, ~1.8e308
+        raise ValueError(f"{name} must be finite, got {shown(value)}") from None
+    if not math.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {number}")
+    return number
 
 
 def check_positive(name: str, value: object, maximum: float | None = None) -> float:
@@ -85,7 +108,7 @@ def check_int(name: str, value: object, minimum: int, maximum: int | None = None
         raise ValueError(f"{name} must be an integer {accepted}, got {_kind(value)}")
     value = int(value)
     if value < minimum or (maximum is not None and value > maximum):
-        raise ValueError(f"{name} must be an integer {accepted}, got {value}")
+        raise ValueError(f"{name} must be an integer {accepted}, got {shown(value)}")
     return value
 
 
@@ -97,7 +120,7 @@ def check_choice(name: str, value: object, choices: Collection[T]) -> T:
     if not any(isinstance(value, type(c)) and _is_bool(value) == _is_bool(c) for c in choices):
         raise TypeError(f"{name} must be one of {accepted}; got {_kind(value)}")
     if value not in choices:
-        raise ValueError(f"{name} must be one of {accepted}; got {value!r}")
+        raise ValueError(f"{name} must be one of {accepted}; got {shown(value)}")
     return value  # type: ignore[return-value]
 
 
@@ -111,12 +134,14 @@ def check_sequence(
     through ``item(f"{name}[i]", x)``."""
     if isinstance(value, np.ndarray):
         if value.ndim != 1:
-            raise TypeError(f"{name} must be a sequence of {length} items, got an array {value!r}")
+            raise TypeError(
+                f"{name} must be a sequence of {length} items, got an array {shown(value)}"
+            )
         value = list(value)
     if isinstance(value, str | bytes) or not isinstance(value, Sequence):
         raise TypeError(f"{name} must be a sequence of {length} items, got {_kind(value)}")
     if len(value) != length:
-        raise ValueError(f"{name} must have {length} items, got {len(value)}: {value!r}")
+        raise ValueError(f"{name} must have {length} items, got {len(value)}: {shown(value)}")
     return tuple(item(f"{name}[{i}]", x) for i, x in enumerate(value))
 
 
@@ -128,10 +153,10 @@ def check_mapping(name: str, value: object, known: Collection[str]) -> dict[str,
         )
     bad = [key for key in value if not isinstance(key, str)]
     if bad:
-        raise TypeError(f"{name} keys must be strings from {sorted(known)}, got {bad!r}")
+        raise TypeError(f"{name} keys must be strings from {sorted(known)}, got {shown(bad)}")
     unknown = sorted(set(value) - set(known))
     if unknown:
-        raise ValueError(f"{name} has unknown keys {unknown}; known: {sorted(known)}")
+        raise ValueError(f"{name} has unknown keys {shown(unknown)}; known: {sorted(known)}")
     return dict(value)
 
 
@@ -152,4 +177,5 @@ __all__ = [
     "check_range",
     "check_sequence",
     "check_string",
+    "shown",
 ]

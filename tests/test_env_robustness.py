@@ -1,6 +1,6 @@
-"""Plain ``info`` values on every outcome, and copies (pickle, deepcopy) taken mid-episode that
-continue exactly where the original was. Vector envs and the pickle of a stepped env are checked
-in tests/test_env.py."""
+"""Plain outputs on every outcome (JSON-ready ``info``), copies (pickle, deepcopy) taken
+mid-episode that continue exactly where the original was, and ``render_mode="human"`` refused
+without a display. Vector envs and the pickle of a stepped env are checked in tests/test_env.py."""
 
 from __future__ import annotations
 
@@ -16,8 +16,10 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from acl_env import ACL_CLIMB_ID
+from acl_env import ACL_CLIMB_BENCHMARK_ID, ACL_CLIMB_ID
 from acl_env.envs import ACLClimbEnv
+from acl_env.envs.lifecycle import no_display_reason
+from acl_env.envs.termination import fell
 
 SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}
 PLAIN = (bool, int, float, str)
@@ -166,3 +168,96 @@ def test_every_camera_renders_its_own_view_at_the_smallest_size() -> None:
     env.reset(seed=0)
     assert env.render().shape == (1, 1, 3)
     env.close()
+
+
+# --- plain outputs on every outcome (issue 35's lifecycle table) ---------------------------------
+
+
+def tiny(**kwargs: Any) -> ACLClimbEnv:
+    return ACLClimbEnv(**{"n_joints": 4, "steps_per_cycle": 8, **kwargs})
+
+
+def assert_plain_step(out: tuple) -> None:
+    _, reward, terminated, truncated, info = out
+    assert type(reward) is float and type(terminated) is bool and type(truncated) is bool
+    for key, value in info.items():
+        assert type(value) in PLAIN, f"info[{key!r}] is {type(value).__name__}"
+    json.dumps({"reward": reward, "terminated": terminated, "truncated": truncated, **info})
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "flag"),
+    [
+        ({"kp": 1e-3}, "fell"),  # limp: off the pole
+        ({"friction": 1e-3}, "fell"),  # slippery
+        ({"roll_limit": 0.5, "n_joints": 20, "steps_per_cycle": 20}, "rolled"),
+        ({"cycles_per_episode": 1, "steps_per_cycle": 2, "n_joints": 20}, "truncated"),
+    ],
+    ids=["limp fall", "slippery fall", "rolled", "truncated"],
+)
+def test_outcomes_are_plain_python_and_json(kwargs: dict[str, Any], flag: str) -> None:
+    env = tiny(**kwargs)
+    _, info = env.reset(seed=0)
+    json.dumps(info)
+    for _ in range(100):
+        out = env.step(np.zeros(env.action_space.shape))
+        assert_plain_step(out)
+        if out[2] or out[3]:
+            break
+    assert out[3] if flag == "truncated" else (out[2] and out[4][flag] is True)
+
+
+def test_fell_is_a_plain_bool_for_numpy_contact_flags() -> None:
+    assert fell(1.0, 1.0, 0.2, np.True_, np.True_) is True
+    assert fell(1.0, 1.0, 0.2, np.False_, np.False_) is True
+    assert fell(1.0, 1.0, 0.2, np.True_, np.False_) is False
+
+
+# --- render_mode="human" without a display -------------------------------------------------------
+
+NO_WINDOW = [
+    ({"DISPLAY": None, "WAYLAND_DISPLAY": None, "MUJOCO_GL": None}, "linux"),
+    ({"DISPLAY": "", "WAYLAND_DISPLAY": "", "MUJOCO_GL": "glfw"}, "linux"),
+    ({"DISPLAY": ":0", "MUJOCO_GL": "egl"}, "linux"),
+    ({"DISPLAY": ":0", "MUJOCO_GL": "osmesa"}, "linux"),
+    ({"WAYLAND_DISPLAY": "wayland-0", "MUJOCO_GL": " EGL "}, "linux"),
+]
+
+
+@pytest.mark.parametrize(("env_vars", "platform"), NO_WINDOW)
+def test_human_rendering_without_a_window_is_refused_before_glfw(
+    env_vars: dict[str, str | None], platform: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    for key, value in env_vars.items():
+        if value is None:
+            monkeypatch.delenv(key, raising=False)
+        else:
+            monkeypatch.setenv(key, value)
+    monkeypatch.setattr("sys.platform", platform)
+    with pytest.raises(ValueError, match="render_mode") as caught:
+        tiny(render_mode="human")
+    assert "DISPLAY" in str(caught.value) and "MUJOCO_GL" in str(caught.value)
+    with pytest.raises(ValueError, match="DISPLAY"):
+        gym.make(ACL_CLIMB_BENCHMARK_ID, render_mode="human", n_joints=4, steps_per_cycle=8)
+
+
+def test_a_display_that_goes_away_is_refused_at_the_first_render(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Built where a display was named, reset (which renders) where none is: a Python error,
+    raised before MuJoCo's viewer is made (GLFW is never touched here)."""
+    monkeypatch.setenv("DISPLAY", ":99")
+    monkeypatch.delenv("MUJOCO_GL", raising=False)
+    env = tiny(render_mode="human")
+    monkeypatch.delenv("DISPLAY")
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr("sys.platform", "linux")
+    with pytest.raises(ValueError, match="MUJOCO_GL"):
+        env.reset(seed=0)
+    assert not env.mujoco_renderer._viewers  # no window was attempted
+
+
+def test_no_display_reason_elsewhere() -> None:
+    assert no_display_reason({}, "darwin") == ""
+    assert no_display_reason({"DISPLAY": ":0"}, "linux") == ""
+    assert "MUJOCO_GL=egl" in no_display_reason({"MUJOCO_GL": "egl"}, "win32")

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from acl_env.__main__ import no_display_reason
+from acl_env.envs.lifecycle import no_display_reason
 
 ROOT = Path(__file__).resolve().parent.parent
 DISPLAY_VARIABLES = ("DISPLAY", "WAYLAND_DISPLAY", "MUJOCO_GL")

@@ -36,6 +36,7 @@ from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
 from acl_env.gait.gaits import SEA_MODULE_DIAMETER, SEA_MODULE_RADIUS
 from acl_env.model import build_model
 from acl_env.validation import (
+    SHOWN_CHARS,
     check_bool,
     check_choice,
     check_finite,
@@ -44,6 +45,7 @@ from acl_env.validation import (
     check_positive,
     check_range,
     check_sequence,
+    shown,
 )
 
 # No example database: nothing is written into the working folder; the draws are seeded.
@@ -101,13 +103,34 @@ def _mujoco_log_in_tmp(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Non
         (lambda v: check_mapping("x", v, ("a",)), [("a", 1)], TypeError),
         (lambda v: check_mapping("x", v, ("a",)), {"b": 1}, ValueError),
         (lambda v: check_mapping("x", v, ("a",)), {1: 1}, TypeError),
+        # Integers beyond any float, or beyond Python's 4300-digit printing limit.
+        (lambda v: check_finite("x", v), 10**400, ValueError),
+        (lambda v: check_positive("x", v), -(10**400), ValueError),
+        (lambda v: check_range("x", v, 0.0, 1.0), 10**5000, ValueError),
+        (lambda v: check_int("x", v, 1, 10), 10**5000, ValueError),
+        (lambda v: check_sequence("x", v, 2, check_finite), (0.5, 10**400), ValueError),
+        (lambda v: check_sequence("x", v, 2, check_finite), [10**5000], ValueError),
+        (lambda v: check_choice("x", v, (1, 2)), 10**5000, ValueError),
+        (lambda v: check_mapping("x", v, ("a",)), {10**5000: 1}, TypeError),
     ],
+    ids=lambda v: shown(v) if isinstance(v, int) else None,  # pytest cannot print 10**5000
 )
 def test_checks_refuse_naming_the_argument(check: Any, value: object, error: type) -> None:
     with pytest.raises(error) as caught:
         check(value)
     assert type(caught.value) is error
     assert caught.value.args[0].split()[0].startswith(("x", "flag"))
+
+
+def test_messages_show_values_abbreviated() -> None:
+    """A 5000-digit integer cannot be printed (Python refuses), a huge list should not be."""
+    assert shown(10**400) == "an integer of about 401 digits"
+    assert shown(-(10**5000)) == "an integer of about 5001 digits"
+    assert shown([10**5000]) == "<list>"
+    assert len(shown(list(range(1000)))) == SHOWN_CHARS and shown(list(range(1000))).endswith("...")
+    assert shown(2**63) == repr(2**63) and shown("x") == "'x'"
+    with pytest.raises(ValueError, match=r"^x must be finite, got an integer of about 401 digits$"):
+        check_finite("x", 10**400)
 
 
 def test_checks_accept_and_convert() -> None:

@@ -28,6 +28,7 @@ from acl_env.constants import (
 from acl_env.envs import arguments, termination
 from acl_env.envs.arguments import GAITS, check_arguments, check_camera, gait_kwargs_at, squeeze_at
 from acl_env.envs.contacts import SLIP_SAMPLES, ContactSampler
+from acl_env.envs.lifecycle import LifecycleMixin
 from acl_env.envs.modulation import interpolate_offsets, offset_tables, table_radius
 from acl_env.envs.pickling import MujocoPickleMixin
 from acl_env.envs.randomize import (
@@ -52,7 +53,7 @@ def _cached_gait(name: str, items: tuple[tuple[str, Any], ...]) -> Gait:
     return gait
 
 
-class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
+class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     """A 20-joint SEA snake climbs a vertical pole; the policy adds residuals to a gait.
 
     ## Description
@@ -64,7 +65,8 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
     ## Action Space
     ``Box(-1, 1, (n_joints,), float32)``: joint ``j``'s target (rad) is ``clip(gait(phase)[j] +
     residual_scale * action[j], -pi/2, pi/2)`` (gait term 0 for ``base_gait="none"``). Actions
-    are clipped to [-1, 1]; NaN or inf raises ``ValueError``. ``gait_modulation={parameter:
+    are clipped to [-1, 1]; NaN, inf or a wrong shape raises ``ValueError``, a non-real dtype
+    ``TypeError``. ``gait_modulation={parameter:
     scale}`` appends ``len(gait_modulation) * modulation_sections`` entries, parameter-major:
     entry ``(p, s)`` offsets gait parameter ``p`` (``squeeze``, ``amp_pitch``, ``amp_radial``) by
     up to ``scale`` m in body section ``s`` (head first, hat functions between section centres),
@@ -118,7 +120,8 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
     ``rolled``, ``roll_span_deg`` (largest range any module's roll swept), ``body_rolls`` (net
     turns about the body's axis, mean over modules). Reset: ``com_height``, ``phase``. A
     ``pickle`` or ``copy.deepcopy`` of the env continues exactly where the original was, mid-episode
-    too (``envs/pickling.py``).
+    too (``envs/pickling.py``). ``step``/``render`` before ``reset`` and any call after ``close``
+    raise; ``seed`` is None or an int >= 0 (``envs/lifecycle.py``).
 
     ## Non-rolling task
     ``acl_env/ACLClimbNoRoll-v3`` (``acl_env.NOROLL_KWARGS``): climb without rolling, so that
@@ -135,7 +138,7 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
     | argument | default | accepted | meaning |
     |---|---|---|---|
     | base_gait | "acl" | "acl", "rolling_helix", "none" | base gait ("none": pure RL ablation) |
-    | gait_kwargs | None | dict of numbers | to the gait; radius: pole + module radius - squeeze |
+    | gait_kwargs | None | dict of numbers in the gait's ranges | to the gait; radius: see squeeze |
     | residual_scale | 0.2 (pi/2 for "none") | (0, pi] | rad of joint target per unit action |
     | n_joints | 20 | int in [3, 100] | joints (modules + 1 links) |
     | pole_radius | 0.075 | [0.01, 0.5] | m |
@@ -146,7 +149,7 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
     | squeeze_slope | 0.0 | [0, 1] | m of squeeze given up per m the pole is under 0.075 m |
     | steps_per_cycle | 220 | int in [2, 2200] | keyframes per gait cycle (one per step, 0.1 s) |
     | cycles_per_episode | 2 | int in [1, 8] | episode length in cycles (the paper's evaluation) |
-    | reward_weights | {"climb": 1, "slip": 1} | dict of numbers | weights of the reward terms |
+    | reward_weights | {"climb": 1, "slip": 1} | dict of [-1e6, 1e6] | weights of the reward terms |
     | domain_randomization | None | None, bool or dict | True for defaults, or a dict (see below) |
     | privileged_obs | False | bool | append the centre of mass position and velocity |
     | start_phase_range | 0.05 | [0, 1] | fraction of a cycle the start keyframe is drawn from |
@@ -161,12 +164,15 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
     | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
     | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
 
-    A value of the wrong kind raises ``TypeError``, one out of range ``ValueError``, both naming
-    the argument (``envs/arguments.py`` says why each bound). Also: ``0 <= low <= 1 <= high <=
-    steps_per_cycle / 2``; ``squeeze`` below pole + module radius; ``gait_kwargs`` must not set
-    ``n_joints``, ``steps_per_cycle``, ``module_length`` or ``module_diameter``; its ``n_samples``
-    in [100, 1000]. ``domain_randomization`` draws ``pole_radius`` (the gait's radius follows),
-    ``friction``, ``kp`` and ``mass_scale`` (``0 < mass_scale <= 10``) at every reset, uniformly
+    A value of the wrong kind raises ``TypeError``, one out of range (``10**400`` too)
+    ``ValueError``, both naming the argument (``envs/arguments.py`` says why each bound). A
+    negative reward weight flips its term (allowed; ``rewards.py``). Also: ``0 <= low <= 1 <= high
+    <= steps_per_cycle / 2``; ``squeeze`` below pole + module radius; ``gait_kwargs`` within the
+    gait's ranges (``gait/gaits.py``), not setting ``n_joints``, ``steps_per_cycle``,
+    ``module_length`` or ``module_diameter``; its ``n_samples`` in [100, 1000]. ``render_mode=
+    "human"`` needs a window (``DISPLAY``; not ``MUJOCO_GL=egl``). ``domain_randomization`` draws
+    ``pole_radius`` (the gait's radius follows), ``friction``, ``kp`` and ``mass_scale``
+    (``1e-3 <= mass_scale <= 10``) at every reset, uniformly
     from ``(low, high)`` ranges inside those arguments' own, and adds Gaussian ``sensor_noise``
     (``[0, 1]``: rad on angles, 10x in rad/s, kp x in N m); ``True``: ``DEFAULT_RANDOMIZATION``.
 
@@ -336,13 +342,7 @@ class ACLClimbEnv(MujocoPickleMixin, MujocoEnv, EzPickle):
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Play one keyframe (0.1 s) of the gait plus the residual; the reward terms are the
         class docstring's (``envs/rewards.py``), each in ``info``."""
-        action = np.asarray(action, dtype=np.float64)
-        if action.shape != self.action_space.shape:
-            raise ValueError(
-                f"action must have shape {self.action_space.shape}, got {action.shape}"
-            )
-        if not np.isfinite(action).all():
-            raise ValueError(f"action must be finite, got {action}")
+        action = self._checked_action(action)  # after reset, before close; shape, dtype, finite
         action = np.minimum(np.maximum(action, -1.0), 1.0)  # np.clip, without its dispatch
         # per joint, so that extra entries held at zero (modulation, cadence) leave it unchanged
         change, n = action - self._last_action, self.n_joints

@@ -35,6 +35,7 @@ import numpy as np
 from acl_env import tuned_gaits
 from acl_env.constants import CONTROL_DT, DEFAULT_POLE_RADIUS, JOINT_LIMIT, SEA_MODULE_RADIUS
 from acl_env.envs.contacts import SLIP_SAMPLES
+from acl_env.envs.lifecycle import check_display
 from acl_env.envs.modulation import (
     DEFAULT_SECTIONS,
     check_modulation,
@@ -55,6 +56,7 @@ from acl_env.validation import (
     check_range,
     check_sequence,
     check_string,
+    shown,
 )
 
 GAITS: dict[str, type[Gait] | None] = {
@@ -176,6 +178,7 @@ def check_arguments(
     base_gait = check_choice("base_gait", base_gait, tuple(GAITS))
     if tuned_gait is not None:
         # A shipped tuned gait by key (acl_env.tuned_gaits): its squeeze and gait_kwargs.
+        check_string("tuned_gait", tuned_gait)
         if base_gait != "acl":
             raise ValueError(f"tuned_gait needs base_gait 'acl', got {base_gait!r}")
         shape = tuned_gaits.resolve(
@@ -218,6 +221,7 @@ def check_arguments(
     )
     if render_mode is not None:
         check_choice("render_mode", render_mode, render_modes)
+        check_display(render_mode)  # "human" needs a window: refused here rather than aborting
     check_int("width", width, *IMAGE_SIZE_RANGE)
     check_int("height", height, *IMAGE_SIZE_RANGE)
     check_string("camera_name", camera_name)
@@ -232,7 +236,13 @@ def check_arguments(
             )
         start_gait = GAITS[base_gait] or ACLGait
         kwargs = gait_kwargs_at(radius, squeeze_there, gait_kwargs, n_joints, steps_per_cycle)
-        start_gait(**kwargs)  # raises naming the bad entry
+        try:
+            start_gait(**kwargs)  # raises naming the bad entry
+        except (TypeError, ValueError) as error:
+            if not gait_kwargs:
+                raise
+            kind = ValueError if isinstance(error, ValueError) else TypeError
+            raise kind(f"gait_kwargs={shown(gait_kwargs)} on a {radius} m pole: {error}") from None
     modulation = check_modulation(gait_modulation)
     sections = check_sections(
         min(DEFAULT_SECTIONS, n_joints) if modulation_sections is None else modulation_sections,
@@ -286,17 +296,17 @@ def _timestep(value: object) -> tuple[float, int]:
     timestep = check_positive("timestep", value)
     if not TIMESTEP_RANGE[0] <= timestep <= TIMESTEP_RANGE[1]:
         raise ValueError(
-            f"timestep must be in [{TIMESTEP_RANGE[0]}, {TIMESTEP_RANGE[1]}] s, got {value}"
+            f"timestep must be in [{TIMESTEP_RANGE[0]}, {TIMESTEP_RANGE[1]}] s, got {timestep}"
         )
     frame_skip = round(CONTROL_DT / timestep)
     if frame_skip < 1 or not math.isclose(frame_skip * timestep, CONTROL_DT, rel_tol=1e-9):
         raise ValueError(
-            f"timestep must divide the {CONTROL_DT} s control step into whole steps, got {value}"
+            f"timestep must divide the {CONTROL_DT} s control step into whole steps, got {timestep}"
         )
     if frame_skip % SLIP_SAMPLES:
         raise ValueError(
             f"timestep must give a multiple of {SLIP_SAMPLES} physics steps per control step "
-            f"(the contact samples), got {value} ({frame_skip} steps)"
+            f"(the contact samples), got {timestep} ({frame_skip} steps)"
         )
     return timestep, frame_skip
 
@@ -309,7 +319,7 @@ def _phase_rate_range(value: object, steps_per_cycle: int) -> tuple[float, float
     if not 0.0 <= lo <= 1.0 <= hi <= steps_per_cycle / 2:
         raise ValueError(
             "phase_rate_range must satisfy 0 <= low <= 1 <= high <= steps_per_cycle / 2 "
-            f"= {steps_per_cycle / 2}, got {value}"
+            f"= {steps_per_cycle / 2}, got {shown(value)}"
         )
     return (lo, hi)
 

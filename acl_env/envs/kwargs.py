@@ -15,6 +15,8 @@ from typing import Any
 import gymnasium
 from gymnasium.envs.registration import load_env_creator
 
+from acl_env.validation import shown
+
 
 class ConfigError(ValueError):
     """A configuration value that the trainer refuses; the message names it."""
@@ -87,7 +89,7 @@ def check_env_kwargs(env_id: str, env_kwargs: Mapping[str, Any]) -> gymnasium.En
         hint = hints.get(key)
         if hint is not None and not _matches(value, hint):
             raise ConfigError(
-                f"env kwarg {key} must be {_type_name(hint)}, got {value!r} "
+                f"env kwarg {key} must be {_type_name(hint)}, got {shown(value)} "
                 f"({type(value).__name__})"
             )
     spec_kwargs = dict(gymnasium.spec(env_id).kwargs)

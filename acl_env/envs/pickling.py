@@ -16,9 +16,19 @@ import mujoco
 import numpy as np
 from gymnasium.utils import EzPickle
 
+from acl_env.envs.lifecycle import CLOSED_FLAG
+
 # Not in a copy's episode state: the simulation travels as MjData (with its model), the renderer
-# is the fresh env's, the constructor's arguments are EzPickle's.
-NOT_COPIED = ("model", "data", "mujoco_renderer", "_ezpickle_args", "_ezpickle_kwargs")
+# is the fresh env's, the constructor's arguments are EzPickle's; a copy of a closed env is open
+# (its own simulation and renderer, envs/lifecycle.py).
+NOT_COPIED = (
+    "model",
+    "data",
+    "mujoco_renderer",
+    "_ezpickle_args",
+    "_ezpickle_kwargs",
+    CLOSED_FLAG,
+)
 
 
 class MujocoPickleMixin:

@@ -17,7 +17,7 @@ import numpy as np
 
 from acl_env.constants import POLE_GEOM, link_name
 from acl_env.model import snake_geom_ids
-from acl_env.validation import check_finite, check_mapping, check_range, check_sequence
+from acl_env.validation import check_finite, check_mapping, check_range, check_sequence, shown
 
 DEFAULT_RANDOMIZATION: dict[str, Any] = {
     "pole_radius": (0.065, 0.09),
@@ -31,7 +31,9 @@ RANGE_BOUNDS: dict[str, tuple[float, float]] = {
     "pole_radius": (0.0, math.inf),
     "friction": (0.0, math.inf),
     "kp": (0.0, math.inf),
-    "mass_scale": (0.0, 10.0),  # up to ten times the SEA module's 0.205 kg
+    # 0.2 g to 2 kg modules (x 0.205 kg): below 1e-3 the inertia matrix is singular, the physics
+    # unstable from the first step
+    "mass_scale": (1e-3, 10.0),
 }
 SENSOR_NOISE_MAX = 1.0  # rad: beyond this the angles are noise
 # The physical quantities a draw sets, in the order they are drawn (the order fixes the stream).
@@ -44,7 +46,8 @@ def check_randomization(
     """Validated domain-randomisation ranges (empty when off; ``True`` gives the defaults).
 
     ``spec`` is ``None``, a bool or a mapping from :data:`DEFAULT_RANDOMIZATION`'s keys to
-    ``(low, high)`` pairs with ``0 < low <= high`` (and ``sensor_noise`` to a std in [0, 1]).
+    ``(low, high)`` pairs with ``0 < low <= high`` within :data:`RANGE_BOUNDS` (and
+    ``sensor_noise`` to a std in [0, 1]).
     ``bounds`` (the env's accepted ranges of its own ``pole_radius``, ``friction``, ``kp``) caps
     the draws: a draw is a value the constructor would have accepted.
     """
@@ -55,7 +58,7 @@ def check_randomization(
     if not isinstance(spec, Mapping):
         raise TypeError(
             "domain_randomization must be None, True, False or a dict with keys from "
-            f"{sorted(DEFAULT_RANDOMIZATION)}, got {spec!r} ({type(spec).__name__})"
+            f"{sorted(DEFAULT_RANDOMIZATION)}, got {shown(spec)} ({type(spec).__name__})"
         )
     limits = {**RANGE_BOUNDS, **(bounds or {})}
     out: dict[str, Any] = {}
@@ -69,7 +72,7 @@ def check_randomization(
         if not (low <= lo and 0.0 < lo <= hi <= high):
             raise ValueError(
                 f"{name} must be (low, high) with {low} <= low, 0 < low <= high <= {high}, "
-                f"got {value!r}"
+                f"got {shown(value)}"
             )
         out[key] = (lo, hi)
     return out

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import NamedTuple
 
-from acl_env.validation import check_finite
+from acl_env.validation import check_range
 
 
 class StepMeasures(NamedTuple):
@@ -78,8 +78,18 @@ DEFAULT_REWARD_WEIGHTS: dict[str, float] = {
 }
 
 
+# Largest |weight|. Every term is bounded (the unstable check zeroes the terms of a step whose state
+# is not finite, and MuJoCo resets any value beyond 1e10, so the energy term stays below ~1e12),
+# so weights within +-1e6 keep every reward finite; 1.7e308 times a term is inf. A weight is a
+# signed scale: the penalties are already negated terms, so a negative weight turns one into a
+# bonus (a negative slip weight rewards sliding). That is allowed, for ablations and probes of
+# the measures: the reward stays finite, and the env does not second-guess a recipe.
+REWARD_WEIGHT_MAX = 1e6
+
+
 def check_reward_weights(weights: Mapping[str, float] | None) -> dict[str, float]:
-    """Validated weights: the defaults overridden by ``weights``; unknown terms raise."""
+    """Validated weights: the defaults overridden by ``weights``, each finite and within
+    +-:data:`REWARD_WEIGHT_MAX`; unknown terms raise."""
     merged = {**DEFAULT_REWARD_WEIGHTS, **(weights or {})}
     unknown = set(merged) - set(DEFAULT_REWARD_WEIGHTS)
     if unknown:
@@ -87,7 +97,10 @@ def check_reward_weights(weights: Mapping[str, float] | None) -> dict[str, float
             f"reward_weights has unknown terms {sorted(unknown)}; "
             f"known: {sorted(DEFAULT_REWARD_WEIGHTS)}"
         )
-    return {key: check_finite(f"reward_weights[{key!r}]", value) for key, value in merged.items()}
+    return {
+        key: check_range(f"reward_weights[{key!r}]", value, -REWARD_WEIGHT_MAX, REWARD_WEIGHT_MAX)
+        for key, value in merged.items()
+    }
 
 
 def reward_terms(weights: Mapping[str, float], step: StepMeasures) -> dict[str, float]:

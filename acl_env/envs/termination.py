@@ -52,8 +52,9 @@ def fell(
     touched_floor: bool,
 ) -> bool:
     """The centre of mass dropped ``fall_distance`` below its start, a shell touched the floor,
-    or no shell touched the pole during the step."""
-    return com_height < com_start - fall_distance or touched_floor or not touched_pole
+    or no shell touched the pole during the step. A plain ``bool`` (the contact flags may be
+    NumPy's, which ``json`` refuses)."""
+    return bool(com_height < com_start - fall_distance or touched_floor or not touched_pole)
 
 
 class BodyRoll:
@@ -114,4 +115,4 @@ class RollSpan:
 
 def rolled(span_deg: float, roll_limit: float | None) -> bool:
     """A module's swept roll range exceeds ``roll_limit`` degrees (never when it is None)."""
-    return roll_limit is not None and span_deg > roll_limit
+    return bool(roll_limit is not None and span_deg > roll_limit)

@@ -36,7 +36,7 @@ from acl_env.gait.curves import (
     twist_mismatch,
 )
 from acl_env.gait.kinematics import count_body_rolls
-from acl_env.validation import check_finite, check_int, check_positive
+from acl_env.validation import check_finite, check_int, check_positive, check_range
 
 # phi_0 = ROLL_SIGN * 2 pi * rolls_per_cycle * phase: with this sign the body rolls so that the
 # snake moves toward its tail, i.e. up the pole (checked in MuJoCo, tests/test_env.py).
@@ -59,6 +59,15 @@ def helix_radius(pole_radius: float, squeeze: float = DEFAULT_SQUEEZE) -> float:
 
 
 DEFAULT_RADIUS = helix_radius(DEFAULT_POLE_RADIUS)
+# Accepted ranges of the gaits' arguments, wide around the SEA snake's (a 5 cm module on a 7.5 cm
+# pole) and narrow enough that every keyframe table is finite (a 1e300 m radius or wave number
+# makes NaN angles, and a 10**9-entry table no memory): lengths (m) in (0, 10], amplitudes in
+# [0, 10] m, wave numbers within +-20 per turn, whole rolls within +-10 per cycle, phases within
+# +-2 pi, and at most 1000 joints, 100000 keyframes per cycle and 100000 curve samples.
+MAX_LENGTH = 10.0  # m: module length and diameter, radius, pitch, wave amplitudes
+MAX_WAVES = 20.0  # axial or radial waves per turn (spatial_freq, radial_freq)
+MAX_ROLLS = 10  # |rolls_per_cycle|
+MAX_JOINTS, MAX_STEPS, MAX_SAMPLES = 1000, 100_000, 100_000
 DEFAULT_PITCH = 0.10
 DEFAULT_AMP_PITCH = 0.01
 
@@ -87,18 +96,20 @@ class Gait:
         rock_amp: float = 0.0,
         rock_phase: float = 0.0,
     ) -> None:
-        self.n_joints = check_int("n_joints", n_joints, 3)
-        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2)
-        self.module_length = check_positive("module_length", module_length)
-        self.module_diameter = check_positive("module_diameter", module_diameter)
-        self.radius = check_positive("radius", radius)
-        self.pitch = check_positive("pitch", pitch)
+        self.n_joints = check_int("n_joints", n_joints, 3, MAX_JOINTS)
+        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2, MAX_STEPS)
+        self.module_length = check_positive("module_length", module_length, MAX_LENGTH)
+        self.module_diameter = check_positive("module_diameter", module_diameter, MAX_LENGTH)
+        self.radius = check_positive("radius", radius, MAX_LENGTH)
+        self.pitch = check_positive("pitch", pitch, MAX_LENGTH)
         if self.pitch < self.module_diameter:
             raise ValueError(
                 f"pitch must be at least one module diameter ({self.module_diameter} m) so that "
                 f"adjacent turns do not collide, got {self.pitch}"
             )
-        self.rolls_per_cycle = check_finite("rolls_per_cycle", rolls_per_cycle)
+        self.rolls_per_cycle = check_range(
+            "rolls_per_cycle", rolls_per_cycle, -MAX_ROLLS, MAX_ROLLS
+        )
         if self.rolls_per_cycle != round(self.rolls_per_cycle):
             # phi_0 must return to itself mod 2 pi after one cycle, or phase + 1 != phase and the
             # keyframe table jumps when it wraps around.
@@ -108,7 +119,7 @@ class Gait:
         self.rock_amp = check_finite("rock_amp", rock_amp)
         if not 0.0 <= self.rock_amp <= np.pi:
             raise ValueError(f"rock_amp must be in [0, pi] rad, got {rock_amp}")
-        self.rock_phase = check_finite("rock_phase", rock_phase)
+        self.rock_phase = check_range("rock_phase", rock_phase, -2.0 * np.pi, 2.0 * np.pi)
         self.joint_limit = JOINT_LIMIT
 
     @property
@@ -287,18 +298,18 @@ class ACLGait(Gait):
         )
         amp_pitch = check_finite("amp_pitch", amp_pitch)
         amp_radial = check_finite("amp_radial", amp_radial)
-        if amp_pitch < 0.0:
-            raise ValueError(f"amp_pitch must be >= 0, got {amp_pitch}")
+        if not 0.0 <= amp_pitch <= MAX_LENGTH:
+            raise ValueError(f"amp_pitch must be >= 0 and <= {MAX_LENGTH}, got {amp_pitch}")
         if not 0.0 <= amp_radial < self.radius:
             raise ValueError(f"amp_radial must be in [0, radius={self.radius}), got {amp_radial}")
-        n_samples = check_int("n_samples", n_samples, 100)
+        n_samples = check_int("n_samples", n_samples, 100, MAX_SAMPLES)
         self.curve = PitchVaryingHelix(
             radius=self.radius,
             pitch=self.pitch,
             amp_pitch=amp_pitch,
-            spatial_freq=check_finite("spatial_freq", spatial_freq),
+            spatial_freq=check_range("spatial_freq", spatial_freq, -MAX_WAVES, MAX_WAVES),
             amp_radial=amp_radial,
-            radial_freq=check_finite("radial_freq", radial_freq),
+            radial_freq=check_range("radial_freq", radial_freq, -MAX_WAVES, MAX_WAVES),
         )
         self.n_samples = int(n_samples)
         # One twist for the whole gait, decided on its keyframes: the quadrature of tau where the

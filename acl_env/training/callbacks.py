@@ -97,6 +97,7 @@ class SafeStopCallback(BaseCallback):
         super().__init__(verbose)
         self.stop_signal: int | None = None
         self.stopped_early = False  # True once a rollout was cut short
+        self.training_ended = False  # True once learn() left its loop (stopped or done)
         self.snapshot: Snapshot | None = None
 
     def request_stop(self, signum: int) -> None:
@@ -124,9 +125,14 @@ class SafeStopCallback(BaseCallback):
             return False
         return True
 
+    def _on_training_end(self) -> None:
+        self.training_ended = True
+
     def rollback(self) -> int:
-        """Restore the last snapshot; return how many env steps were discarded."""
-        assert self.snapshot is not None, "rollback before training started"
+        """Restore the last snapshot; return how many env steps were discarded (none before
+        training started)."""
+        if self.snapshot is None:
+            return 0
         discarded = self.model.num_timesteps - self.snapshot.num_timesteps
         self.model.num_timesteps = self.snapshot.num_timesteps
         vec_normalize = self.model.get_vec_normalize_env()

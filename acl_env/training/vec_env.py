@@ -6,12 +6,20 @@ processes each step a slice of the envs in turn and answer with one message: the
 inference over all envs while each core runs one worker. Semantics follow ``SubprocVecEnv``
 (auto-reset with ``terminal_observation``, ``TimeLimit.truncated``, seeds and options applied at
 the next reset, ``reset_infos``).
+
+Workers ignore SIGINT and SIGTERM: a terminal's Ctrl-C (or a ``kill`` of the process group) goes
+to the trainer, which stops at a consistent point and then closes them. ``close`` never hangs: a
+worker that does not exit on ``close`` is killed, and an env left open at exit is closed before
+multiprocessing's own exit handler would wait for workers that ignore its SIGTERM.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import itertools
 import multiprocessing as mp
+import signal
 from collections.abc import Callable, Sequence
 from multiprocessing.connection import Connection
 from typing import Any
@@ -30,7 +38,9 @@ from stable_baselines3.common.vec_env.util import obs_space_info
 
 
 def _worker(remote: Connection, parent_remote: Connection, fns: CloudpickleWrapper) -> None:
-    """Serve commands for a slice of envs until ``close``."""
+    """Serve commands for a slice of envs until ``close`` (or the trainer is gone)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     parent_remote.close()
     envs: list[gymnasium.Env] = [_patch_env(fn()) for fn in fns.var]
     reset_infos: list[dict[str, Any]] = [{} for _ in envs]
@@ -87,6 +97,8 @@ def _worker(remote: Connection, parent_remote: Connection, fns: CloudpickleWrapp
 class MultiEnvSubprocVecEnv(VecEnv):
     """``n_envs`` envs in ``n_workers`` processes (contiguous slices, sizes differing by <= 1)."""
 
+    close_timeout_s = 10.0  # how long ``close`` waits for a worker before killing it
+
     def __init__(
         self,
         env_fns: Sequence[Callable[[], gymnasium.Env]],
@@ -111,6 +123,7 @@ class MultiEnvSubprocVecEnv(VecEnv):
             child.close()
         self.waiting = False
         self.closed = False
+        atexit.register(self.close)  # runs before multiprocessing's exit handler (LIFO)
         self.remotes[0].send(("get_spaces", None))
         observation_space, action_space = self.remotes[0].recv()
         super().__init__(n_envs, observation_space, action_space)
@@ -152,16 +165,25 @@ class MultiEnvSubprocVecEnv(VecEnv):
         return np.stack(observations)
 
     def close(self) -> None:
+        """Ask the workers to close their envs and exit; kill any that has not within
+        ``close_timeout_s`` (a pending step's reply is read first, or dropped)."""
         if self.closed:
             return
-        if self.waiting:
-            for remote in self.remotes:
-                remote.recv()
         for remote in self.remotes:
-            remote.send(("close", None))
+            with contextlib.suppress(OSError, EOFError, ValueError):
+                if self.waiting and remote.poll(self.close_timeout_s):
+                    remote.recv()
+                remote.send(("close", None))
+        self.waiting = False
         for process in self.processes:
-            process.join()
-        self.closed = True
+            process.join(self.close_timeout_s)
+            if process.is_alive():
+                process.kill()
+                process.join()
+        for remote in self.remotes:
+            remote.close()
+        self.closed = True  # only now: a close cut short is done again at exit
+        atexit.unregister(self.close)
 
     def get_images(self) -> Sequence[np.ndarray | None]:
         for remote in self.remotes:

@@ -8,7 +8,8 @@ import json
 import math
 import os
 import tempfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -48,6 +49,75 @@ def atomic_write(path: str | Path, data: bytes | str) -> None:
             f.write(raw)
             f.flush()
             os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def check_output(
+    path: str | Path, suffixes: Iterable[str] = (), fields: Mapping[str, Any] | None = None
+) -> Path:
+    """``path`` as a file to write later, checked now (nothing is left behind); ``ValueError``
+    saying what is wrong. With ``fields``, ``path`` is a template (``run_{seed}.json``) that must
+    format with them; the formatted path is checked and returned.
+
+    The folder must exist and take a new file (probed by creating and removing one: permission
+    bits say nothing to root, nor of ``/proc``); the path must not be a folder or another
+    non-file; its suffix must be one of ``suffixes`` (any case) when given. A symlink at the path
+    is fine: :func:`atomic_write` replaces the link, never writes through it out of its folder.
+    """
+    text = str(path)
+    if fields is not None:
+        try:
+            text = text.format(**fields)
+        except (KeyError, IndexError, ValueError, AttributeError) as error:
+            raise ValueError(
+                f"{str(path)!r} does not format ({type(error).__name__}: {error})"
+            ) from None
+    path = Path(text)
+    suffixes = tuple(suffixes)
+    if path.is_dir():
+        raise ValueError(f"expected a file path, got the folder {text!r}")
+    if suffixes and path.suffix.lower() not in suffixes:
+        raise ValueError(f"expected a file ending in {' or '.join(suffixes)}, got {text!r}")
+    if path.exists() and not path.is_file():
+        raise ValueError(f"{text!r} exists and is not a regular file")
+    try:
+        check_writable_folder(path.parent)
+    except ValueError as error:
+        raise ValueError(f"{error}, so {text!r} cannot be written") from None
+    return path
+
+
+def check_writable_folder(folder: str | Path, what: str = "the folder") -> Path:
+    """``folder`` exists and a file can be created in it (probed: created and removed at once);
+    ``ValueError`` naming ``what`` otherwise."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise ValueError(f"{what} {str(folder)!r} does not exist")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".write-probe.", dir=folder)
+    except OSError as error:
+        raise ValueError(f"{what} {str(folder)!r} is not writable ({error.strerror})") from None
+    os.close(fd)
+    os.unlink(probe)
+    return folder
+
+
+@contextmanager
+def atomic_output(path: str | Path) -> Iterator[Path]:
+    """A temporary path in ``path``'s folder, with its suffix (a figure or video writer picks its
+    format by it), renamed over ``path`` when the block ends without an error (a symlink at
+    ``path`` is replaced, not followed) and removed when it raises."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
+    )
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.chmod(tmp, 0o666 & ~_UMASK)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

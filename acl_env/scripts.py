@@ -103,7 +103,20 @@ def policy_parser(doc: str | None, episodes: int) -> cli.ArgumentParser:
     ``--episodes``, ``--env-kwargs``, ``--json``, ``--plot`` and ``--no-progress-bar``."""
     parser = make_parser(doc, plot=True, episodes=episodes, env_kwargs=True, progress=True)
     parser.add_argument("--policy", type=cli.existing_dir, required=True, help="policy folder")
+    add_trust_pickles(parser)
     return parser
+
+
+def add_trust_pickles(parser: argparse.ArgumentParser) -> None:
+    """``--trust-pickles``: a training run folder's ``model.zip`` and ``vecnormalize.pkl`` are
+    pickles, which can run code when loaded; a script loads them only when told (pretrained
+    numpy folders need no flag)."""
+    parser.add_argument(
+        "--trust-pickles",
+        action="store_true",
+        help="load model.zip/vecnormalize.pkl of an SB3 run folder: they can run code; only for "
+        "folders you made or trust (pretrained numpy folders need no flag)",
+    )
 
 
 def parse_policy_args(

@@ -42,7 +42,15 @@ from acl_env.evaluation.baselines import (
     tuned_gait,
 )
 from acl_env.evaluation.runner import evaluate
-from acl_env.scripts import RUNS, make_parser, save_figure, seeds, use_agg, write_output
+from acl_env.scripts import (
+    RUNS,
+    add_trust_pickles,
+    make_parser,
+    save_figure,
+    seeds,
+    use_agg,
+    write_output,
+)
 from acl_env.training import cli
 from acl_env.training.policy import read_policy_folder
 
@@ -50,7 +58,7 @@ ARC_TARGET_DEG = 90.0  # issue 11: at most 90 degrees on every module, every epi
 
 
 def build(
-    policy: Path | None, overrides: dict[str, Any], tuned_path: Path
+    policy: Path | None, overrides: dict[str, Any], tuned_path: Path, trust_pickles: bool = False
 ) -> tuple[list[Controller], list[str]]:
     """The controllers to compare (see the module docstring) and notes on what was skipped."""
     env_id, base, notes = ACL_CLIMB_NOROLL_ID, dict(overrides), []
@@ -59,7 +67,9 @@ def build(
         folder = read_policy_folder(policy)
         env_id = folder.env_id
         base = {**evaluation_env_kwargs(folder), **overrides}
-        controllers.append(Controller("policy", env_id, base, str(folder.path)))
+        controllers.append(
+            Controller("policy", env_id, base, str(folder.path), trust_pickles=trust_pickles)
+        )
     controllers.insert(0, Controller("open_loop_noroll", env_id, base))
     played = {**(gymnasium.spec(env_id).kwargs or {}), **base}  # what open_loop_noroll plays
     tuned, note = tuned_gait(tuned_path, played.get("reward_weights"), True, env_id=env_id)
@@ -142,11 +152,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         seed=0, episodes=5, workers=2, env_kwargs=True,
     )  # fmt: skip
     parser.add_argument("--policy", type=cli.existing_dir, help="policy or run folder")
+    add_trust_pickles(parser)
     parser.add_argument("--tuned-gaits", type=Path, default=DEFAULT_TUNED_GAITS)
     args = parser.parse_args(argv)
     overrides = args.env_kwargs
     try:
-        controllers, notes = build(args.policy, overrides, args.tuned_gaits)
+        controllers, notes = build(args.policy, overrides, args.tuned_gaits, args.trust_pickles)
         for controller in controllers:
             controller.make_env().close()  # bad kwargs or folder: refused before any episode
     except (ValueError, TypeError) as error:

@@ -299,7 +299,8 @@ def test_evaluation_writes_every_metric_and_controller(policy_folder: Path, tmp_
     metric, finite where defined; the training reward weights for every controller."""
     out = tmp_path / "eval.json"
     tuned = tuned_gaits_file(tmp_path / "tuned.yml", {"climb": 1.0, "slip": 2.0})
-    argv = ["--policy", str(policy_folder), "--episodes", "2", "--json", str(out), *QUIET]
+    argv = ["--policy", str(policy_folder), "--trust-pickles", "--episodes", "2", *QUIET]
+    argv += ["--json", str(out)]
     plot = ["--plot", str(tmp_path / "eval.png")]
     document = evaluate_cli.main([*argv, "--tuned-gaits", str(tuned), *plot])
     six = FIVE | {"open_loop_tuned_same_cadence"}
@@ -415,6 +416,8 @@ def test_bad_arguments_are_refused_before_any_work(
     before = sorted(work.rglob("*"))
     if "--policy" not in args and "--no-policy" not in args:
         args = ["--policy", str(policy_folder), *args]
+    if "--no-policy" not in args:
+        args.append("--trust-pickles")  # an SB3 folder: its pickles are ours (tests/test_trust.py)
     with pytest.raises(SystemExit) as exit_info:
         evaluate_cli.main(
             [*args, "--episodes", "1", *QUIET] if "--episodes" not in args else [*args, *QUIET]

@@ -96,7 +96,7 @@ def _sb3_actions(folder: Path, observations: np.ndarray) -> np.ndarray:
 
 
 def _assert_exports_exactly(sb3_folder: Path, out: Path, name: str) -> pretrained.PretrainedPolicy:
-    export.export_policy(sb3_folder, out, name)
+    export.export_policy(sb3_folder, out, name, trust_pickles=True)
     assert sorted(p.name for p in out.iterdir()) == ["policy.json", "policy.npz"]
     policy = pretrained.load_policy(out)
     observations = _observations(policy)
@@ -318,7 +318,9 @@ def test_the_exporter_command_line(tmp_path: Path, capsys: pytest.CaptureFixture
     """It writes both files and prints them; a folder without SB3 files is refused in one line."""
     source, out = EXPERIMENT_FOLDERS[1], tmp_path / "out"
     record = ROOT / "docs" / "eval_noroll.json"
-    export.main([str(source), str(out), "--name", "seed1", "--record", str(record)])
+    export.main(
+        [str(source), str(out), "--name", "seed1", "--record", str(record), "--trust-pickles"]
+    )
     assert capsys.readouterr().out.split() == [str(out / "policy.npz"), str(out / "policy.json")]
     metadata = json.loads((out / "policy.json").read_text())
     assert metadata["name"] == "seed1" and metadata["evaluation"]["record"].endswith(record.name)

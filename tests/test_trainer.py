@@ -2,11 +2,13 @@
 
 Tiny in-process runs: 2 envs in the trainer process (``--vec-env dummy``), 64-step rollouts
 (128 env steps per update), 20-step episodes. Signals are real (``os.kill`` on this process), sent
-from inside a rollout or a gradient update, so where they land is exact.
+from inside a rollout or a gradient update, so where they land is exact. SIGINT is handled as in a
+terminal's foreground job (:func:`sigint_handled`) however pytest was started.
 """
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import os
@@ -15,6 +17,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +46,19 @@ def tiny_argv(run_root: Path, n_timesteps: int, *extra: str) -> list[str]:
         *["--env-kwargs", "steps_per_cycle:20", "cycles_per_episode:1"],
         *["--checkpoint-freq", "256", "--no-progress-bar", *extra],
     ]
+
+
+@contextlib.contextmanager
+def sigint_handled() -> Iterator[None]:
+    """SIGINT handled as Python does in a terminal's foreground job (``KeyboardInterrupt``), also
+    in the processes started meanwhile (exec resets a handled signal to its default). A pytest
+    started in the background by a script inherits SIGINT ignored, and so would the trainer: it
+    leaves an ignored SIGINT ignored (``nohup acl-train ... &``)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def run(argv: list[str], *callbacks: BaseCallback) -> Path:
@@ -102,7 +118,8 @@ class SignalInRollout(BaseCallback):
 def interrupted_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, SignalInRollout]:
     """A 512-step run stopped by SIGINT at step 10 of its third rollout (after 2 updates)."""
     sender = SignalInRollout(rollout=3, step=10)
-    run_dir = run(tiny_argv(tmp_path_factory.mktemp("runs"), 512), sender)
+    with sigint_handled():
+        run_dir = run(tiny_argv(tmp_path_factory.mktemp("runs"), 512), sender)
     return run_dir, sender
 
 
@@ -149,7 +166,9 @@ def test_interrupt_in_an_update_finishes_it_and_a_second_signal_is_harmless(
         calls.append(policy_params(self))
 
     monkeypatch.setattr(PPO, "train", train)
-    run_dir = run(tiny_argv(tmp_path, 10**6))
+    with sigint_handled():
+        run_dir = run(tiny_argv(tmp_path, 10**6))
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
     model, stats, summary = load(run_dir)
     assert len(calls) == 2
     assert model.num_timesteps == 2 * ROLLOUT
@@ -158,7 +177,6 @@ def test_interrupt_in_an_update_finishes_it_and_a_second_signal_is_harmless(
     (segment,) = summary["segments"]
     assert segment["interrupted"] and segment["signal"] == "SIGINT"  # the first one received
     assert segment["discarded_rollout_steps"] == 2  # the one vector step that noticed the stop
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # handlers restored
 
 
 def test_resume_continues_the_run_with_its_own_settings(
@@ -169,7 +187,7 @@ def test_resume_continues_the_run_with_its_own_settings(
     run_dir = Path(shutil.copytree(interrupted_run[0], tmp_path / "run"))
     config_before = (run_dir / "config.yml").read_bytes()
     resumed = SignalInRollout(rollout=0, step=0)  # records the first observations only
-    run(["--resume", str(run_dir), "--no-progress-bar"], resumed)
+    run(["--resume", str(run_dir), "--trust-pickles", "--no-progress-bar"], resumed)
     assert (run_dir / "config.yml").read_bytes() == config_before
     model, stats, summary = load(run_dir)
     assert model.num_timesteps == 512  # the config's n_timesteps, not 512 more
@@ -199,7 +217,16 @@ def test_resume_is_reproducible(
     results = []
     for name in ("a", "b"):
         run_dir = Path(shutil.copytree(interrupted_run[0], tmp_path / name))
-        run(["--resume", str(run_dir), "--n-timesteps", "128", "--no-progress-bar"])
+        run(
+            [
+                "--resume",
+                str(run_dir),
+                "--trust-pickles",
+                "--n-timesteps",
+                "128",
+                "--no-progress-bar",
+            ]
+        )
         results.append(load(run_dir))
     (model_a, stats_a, _), (model_b, stats_b, _) = results
     assert model_a.num_timesteps == model_b.num_timesteps == 256 + 128
@@ -382,7 +409,7 @@ def test_bad_resume_is_refused_up_front(
         run_dir = make_corrupt_run(complete_run, tmp_path / "run", how)
     before = {p: p.read_bytes() for p in run_dir.rglob("*") if p.is_file()}
     with pytest.raises(SystemExit) as exit_info:
-        trainer.main(["--resume", str(run_dir), "--no-progress-bar", *extra])
+        trainer.main(["--resume", str(run_dir), "--trust-pickles", "--no-progress-bar", *extra])
     assert exit_info.value.code == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and named in err, err
@@ -474,7 +501,7 @@ def test_signals_from_outside(tmp_path: Path, signals: tuple[int, int]) -> None:
     run_root, log = tmp_path / "runs", tmp_path / "train.log"
     argv = tiny_argv(run_root, 10**7)
     argv[argv.index("dummy")] = "subproc"
-    with open(log, "w") as out:
+    with open(log, "w") as out, sigint_handled():
         proc = subprocess.Popen(
             [sys.executable, "-m", "acl_env.training.trainer", *argv],
             cwd=tmp_path,
@@ -571,7 +598,10 @@ def test_init_from_starts_as_the_trained_policy_with_new_actions_at_zero(
 ) -> None:
     modulation = ["--env-kwargs", "gait_modulation:{'squeeze':0.003}", "modulation_sections:2"]
     start = AtTrainingStart()
-    run_dir = run(tiny_argv(tmp_path, 128, "--init-from", str(complete_run), *modulation), start)
+    run_dir = run(
+        tiny_argv(tmp_path, 128, "--trust-pickles", "--init-from", str(complete_run), *modulation),
+        start,
+    )
     trained, stats, _ = load(complete_run)
     source = policy_params(trained)
     # The default recipe has the cadence action: 20 joints, 2 squeeze sections, cadence.
@@ -613,7 +643,9 @@ def test_bad_init_from_is_refused_naming_it(
     """Exit status 2, one line naming --init-from and what is wrong, nothing written."""
     run_root = tmp_path / "runs"
     with pytest.raises(SystemExit) as exit_info:
-        trainer.main(tiny_argv(run_root, 128, "--init-from", str(complete_run), *extra))
+        trainer.main(
+            tiny_argv(run_root, 128, "--trust-pickles", "--init-from", str(complete_run), *extra)
+        )
     assert exit_info.value.code == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--init-from" in err and named in err, err

@@ -4,7 +4,8 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 
 * ``policy``: the policy, deterministic: a pretrained folder (``policy.json``, as shipped) on numpy
   (:mod:`acl_env.pretrained`), or an SB3 run folder's newest model, VecNormalize statistics
-  frozen (:mod:`acl_env.training.policy`, which needs the ``train`` extra);
+  frozen (:mod:`acl_env.training.policy`, which needs the ``train`` extra, and
+  ``trust_pickles``: SB3's files are pickles, which can run code);
 * ``open_loop_acl``: the default ACL gait, zero action (on the policy's env when its base gait is
   ACL, so a non-rolling task is judged against its own open loop; the env's registered gait,
   without the ``gait_kwargs`` or ``squeeze`` a policy may have been trained on);
@@ -83,6 +84,7 @@ class Controller:
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     policy_dir: str | None = None
     phase_rate: float | None = None  # open loop at this many keyframes per step
+    trust_pickles: bool = False  # an SB3 policy_dir's pickles may be loaded (they can run code)
 
     def make_env(self, **extra: Any) -> gymnasium.Env:
         """The controller's env (``extra`` over its kwargs, e.g. ``render_mode``)."""
@@ -91,7 +93,8 @@ class Controller:
     def make_policy(self, env: gymnasium.Env) -> Policy:
         """The policy acting in ``env``: the folder's (a pretrained one on numpy, an SB3 one
         through SB3), or the open loop; :class:`~acl_env.pretrained.SpaceMismatchError` when
-        the policy was trained on other spaces."""
+        the policy was trained on other spaces; a ``ValueError`` for an SB3 folder without
+        ``trust_pickles``."""
         if self.policy_dir is not None:
             if pretrained.is_pretrained(self.policy_dir):
                 policy = pretrained.load_policy(Path(self.policy_dir))
@@ -99,7 +102,7 @@ class Controller:
                 return policy
             from acl_env.training.policy import load_policy  # SB3 and torch: only for SB3 folders
 
-            return load_policy(self.policy_dir, env)
+            return load_policy(self.policy_dir, env, self.trust_pickles)
         if self.phase_rate is not None:
             return constant_cadence_policy(env, self.phase_rate)
         return zero_policy(env)
@@ -286,9 +289,11 @@ def build_controllers(
     reward_weights: dict[str, float] | None,
     tuned_path: Path,
     tuned_key: str | None = None,
+    trust_pickles: bool = False,
 ) -> tuple[list[Controller], list[str]]:
     """The controllers to compare, all under the same conditions, and notes on any skipped
-    (``tuned_key``: the tuned-gaits entry, by default :func:`default_tuned_key`)."""
+    (``tuned_key``: the tuned-gaits entry, by default :func:`default_tuned_key`;
+    ``trust_pickles``: the policy, when an SB3 folder, may load its pickles)."""
     base: dict[str, Any] = {}
     acl_id = policy_id = ACL_CLIMB_ID
     if folder is not None:
@@ -308,7 +313,9 @@ def build_controllers(
     acl_kwargs = open_loop  # without a policy: the ACL env with --env-kwargs, gait kwargs included
     if folder is not None:
         acl_kwargs = other_gait
-        controllers.append(Controller("policy", policy_id, base, str(folder.path)))
+        controllers.append(
+            Controller("policy", policy_id, base, str(folder.path), trust_pickles=trust_pickles)
+        )
         if base.get("base_gait", task_baselines(policy_id).base_gait) == "acl":
             # The registered gait of the policy's env (ACLClimbNoRoll-v3: the non-rolling one),
             # without any reshaping of it the policy was trained on.

@@ -4,6 +4,10 @@ The controllers are those of :mod:`acl_env.evaluation.baselines`, run by
 :mod:`acl_env.evaluation.runner`; the metrics are those of :mod:`acl_env.evaluation`, reported as
 mean and Student-t 95 % interval over the episodes; ``--json`` writes the record of
 :mod:`acl_env.evaluation.records`. ``python -m acl_env.evaluation.cli`` runs it too.
+
+Every argument, output path and policy folder is checked before the first episode (a bad one:
+exit 2, one line naming it, nothing written); every output is written atomically. An SB3 run
+folder loads only with ``--trust-pickles`` (its files are pickles, which can run code).
 """
 
 from __future__ import annotations
@@ -33,7 +37,8 @@ from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
 from acl_env.evaluation.runner import evaluate
-from acl_env.pretrained import SpaceMismatchError
+from acl_env.io import atomic_output
+from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
 from acl_env.training import cli
 
 
@@ -52,6 +57,8 @@ def policy_folder(text: str) -> Path:
 
 def make_parser() -> cli.ArgumentParser:
     """The command line of ``acl-evaluate``."""
+    from acl_env.envs.rewards import REWARD_WEIGHT_MAX  # loads MuJoCo: MUJOCO_GL is set by now
+
     parser = cli.ArgumentParser(
         prog="acl-evaluate",
         description="Evaluate a trained policy against the open-loop gaits, on the same seeds.",
@@ -62,22 +69,39 @@ def make_parser() -> cli.ArgumentParser:
         type=policy_folder,
         default=DEFAULT_POLICY,
         help=f"a shipped policy ({', '.join(shipped.list_policies())}; default "
-        f"{shipped.DEFAULT_POLICY}), a pretrained policy folder or an SB3 run folder",
+        f"{shipped.DEFAULT_POLICY}), a pretrained policy folder or an SB3 run folder (with "
+        "--trust-pickles)",
     )
     which.add_argument("--no-policy", action="store_true", help="open-loop controllers only")
-    parser.add_argument("--episodes", type=cli.int_at_least(1), default=20)
+    cli.add_trust_pickles(parser)
     parser.add_argument(
-        "--seed", type=cli.int_at_least(0), default=0, help="episode i resets with seed + i"
+        "--episodes",
+        type=cli.int_at_least(1, cli.MAX_COUNT),
+        default=20,
+        help="episodes, >= 1 (default 20)",
     )
     parser.add_argument(
-        "--env-kwargs", type=cli.key_value, nargs="*", default=[], metavar="KEY:VALUE"
+        "--seed",
+        type=cli.int_at_least(0, cli.MAX_SEED),
+        default=0,
+        help=f"episode i resets with seed + i (0 to {cli.MAX_SEED})",
+    )
+    parser.add_argument(
+        "--env-kwargs",
+        type=cli.key_value,
+        nargs="*",
+        default=[],
+        metavar="KEY:VALUE",
+        help="env overrides (numbers finite; ranges: docs/evaluation.md)",
     )
     parser.add_argument(
         "--reward-weights",
-        type=cli.key_value,
+        type=cli.reward_weight,
         nargs="*",
         metavar="TERM:WEIGHT",
-        help="reward weights of every controller's env (default: the policy's training ones)",
+        help="reward weights of every controller's env (default: the policy's training ones); "
+        f"finite numbers with |weight| <= {REWARD_WEIGHT_MAX:g}, negative allowed (the "
+        "term's sign flipped: slip:-1 rewards slipping)",
     )
     parser.add_argument(
         "--tuned-gaits",
@@ -90,7 +114,9 @@ def make_parser() -> cli.ArgumentParser:
         help="entry of --tuned-gaits to play as open_loop_tuned (default: the policy's task's, "
         "acl_env.evaluation.baselines.TASKS)",
     )
-    parser.add_argument("--json", type=cli.output_file(), help="write the record here")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the record here (.json)"
+    )
     parser.add_argument(
         "--plot",
         type=cli.output_file(".png", ".pdf", ".svg"),
@@ -115,7 +141,10 @@ def make_parser() -> cli.ArgumentParser:
         help="video speed, times real time (default 1)",
     )
     parser.add_argument(
-        "--workers", type=cli.int_at_least(1), default=2, help="processes running episodes"
+        "--workers",
+        type=cli.int_at_least(1, cli.MAX_PROCESSES),
+        default=2,
+        help="processes running episodes",
     )
     parser.add_argument(
         "--gym-packages",
@@ -147,30 +176,39 @@ def _checked_controllers(
             weights = cli.pairs_to_dict("--reward-weights", args.reward_weights)
     except argparse.ArgumentTypeError as error:
         parser.error(str(error))
+    if weights is not None:
+        try:
+            check_reward_weights(weights)
+        except (ValueError, TypeError) as error:
+            parser.error(f"argument --reward-weights: {error}")
     folder = None
     if not args.no_policy:
         try:
             folder = read_policy(args.policy)
         except ValueError as error:
             parser.error(f"argument --policy: {error}")
+        if not isinstance(folder, PretrainedPolicy):
+            from acl_env.training.runs import require_trust  # an SB3 folder: PyYAML is here
+
+            try:
+                require_trust(args.policy, args.trust_pickles)
+            except ValueError as error:
+                parser.error(f"argument --policy: {error}")
     try:
         controllers, notes = build_controllers(
-            folder, overrides, weights, args.tuned_gaits, args.tuned_key
+            folder, overrides, weights, args.tuned_gaits, args.tuned_key, args.trust_pickles
         )
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
+    except (ValueError, TypeError, AttributeError) as error:  # a malformed gait override
+        parser.error(f"argument --env-kwargs: {error}")
     if args.tuned_key is not None and not any(c.name == "open_loop_tuned" for c in controllers):
         skipped = [note for note in notes if note.startswith("open_loop_tuned: skipped")]
         parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
-    if weights is not None:
-        try:
-            check_reward_weights(weights)
-        except (ValueError, TypeError) as error:
-            parser.error(f"argument --reward-weights: {error}")
     for controller in controllers:
         try:
             env = check_env_kwargs(controller.env_id, controller.env_kwargs)
-        except ValueError as error:
+        except (ValueError, TypeError, ArithmeticError) as error:
             parser.error(f"argument --env-kwargs: {controller.name}: {error}")
         try:
             controller.make_policy(env)
@@ -219,10 +257,12 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     if args.json:
         write_record(args.json, document)
     if args.plot:
-        plot_heights(results, args.plot)
+        with atomic_output(args.plot) as path:
+            plot_heights(results, path)
     if args.video:
         shown = [controllers[0], *(by_name[name] for name in args.video_beside)]
-        record_video(shown, seeds[0], args.video, args.video_speedup)
+        with atomic_output(args.video) as path:
+            record_video(shown, seeds[0], path, args.video_speedup)
     return document
 
 

@@ -23,18 +23,29 @@ TRAINER_SET = ("self", "env", "tensorboard_log", "verbose", "seed", "device", "_
 # --- hyperparameters -----------------------------------------------------------------------------
 
 
+# The largest count a config may give (n_timesteps, n_steps, ...), and the largest rollout
+# (n_steps x n_envs, the buffer PPO allocates up front): beyond any use, short of a hang or an
+# out-of-memory crash after the setup.
+MAX_COUNT = 10**12
+MAX_ROLLOUT = 10**7
+
+
+def _finite(value: Any) -> bool:
+    """A real number (not a bool) that is finite as a float (a 400-digit integer is not)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
+
+
 def _positive_int(value: Any) -> bool:
-    return (
-        isinstance(value, int | float)
-        and not isinstance(value, bool)
-        and math.isfinite(value)
-        and value == int(value)
-        and value >= 1
-    )
+    return _finite(value) and value == int(value) and 1 <= value <= MAX_COUNT
 
 
 def _number(value: Any, low: float, high: float, low_open: bool = False) -> bool:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+    if not _finite(value):
         return False
     return (value > low if low_open else value >= low) and value <= high
 
@@ -78,42 +89,42 @@ def _policy_kwargs(value: Any) -> bool:
 
 
 def _callback(value: Any) -> bool:
-    """``callback``: a dotted class path, a ``{path: kwargs}`` mapping, or a list of those."""
+    """``callback``: an allowed class (:data:`~acl_env.training.config.ALLOWED_CLASSES`) as a
+    dotted path, a ``{path: kwargs}`` mapping, or a list of those; nothing else is imported."""
     items = value if isinstance(value, list) else [value]
     for item in items:
         name = next(iter(item)) if isinstance(item, dict) and len(item) == 1 else item
-        if not isinstance(name, str) or "." not in name:
+        if isinstance(item, dict) and not isinstance(item.get(name), dict | None):
             return False
         try:
-            if not isinstance(import_dotted(name), type):
-                return False
+            import_dotted(name, "callback")
         except ValueError:
             return False
     return True
 
 
 def _policy(value: Any) -> bool:
-    """``policy``: SB3's ``MlpPolicy``, or the dotted path of an ``ActorCriticPolicy`` subclass."""
-    if value == "MlpPolicy":
-        return True
-    if not isinstance(value, str) or "." not in value:
-        return False
+    """``policy``: an SB3 alias (``MlpPolicy``), or the dotted path of an allowed
+    ``ActorCriticPolicy`` subclass (SB3's, :mod:`acl_env.training.networks`)."""
+    from stable_baselines3 import PPO
     from stable_baselines3.common.policies import ActorCriticPolicy
 
+    if isinstance(value, str) and value in PPO.policy_aliases:
+        return True
     try:
-        cls = import_dotted(value)
+        cls = import_dotted(value, "policy")
     except ValueError:
         return False
-    return isinstance(cls, type) and issubclass(cls, ActorCriticPolicy)
+    return issubclass(cls, ActorCriticPolicy)
 
 
 # key -> (check, what is accepted)
 HYPERPARAM_CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
-    "n_envs": (_positive_int, "an integer >= 1"),
-    "n_timesteps": (_positive_int, "an integer >= 1"),
-    "n_steps": (_positive_int, "an integer >= 1"),
-    "batch_size": (lambda v: _positive_int(v) and v >= 2, "an integer >= 2"),
-    "n_epochs": (_positive_int, "an integer >= 1"),
+    "n_envs": (lambda v: _positive_int(v) and v <= 1024, "an integer in [1, 1024]"),
+    "n_timesteps": (_positive_int, f"an integer in [1, {MAX_COUNT:.0e}]"),
+    "n_steps": (_positive_int, f"an integer in [1, {MAX_COUNT:.0e}]"),
+    "batch_size": (lambda v: _positive_int(v) and v >= 2, f"an integer in [2, {MAX_COUNT:.0e}]"),
+    "n_epochs": (_positive_int, f"an integer in [1, {MAX_COUNT:.0e}]"),
     "learning_rate": (_schedule, "a positive number or 'lin_<number>'"),
     "clip_range": (_schedule, "a positive number or 'lin_<number>'"),
     "clip_range_vf": (lambda v: v is None or _schedule(v), "None or a positive number"),
@@ -126,12 +137,20 @@ HYPERPARAM_CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "normalize_advantage": (_bool, "True or False"),
     "use_sde": (_bool, "True or False"),
     "sde_sample_freq": (lambda v: _positive_int(v) or v == -1, "-1 or an integer >= 1"),
-    "stats_window_size": (_positive_int, "an integer >= 1"),
-    "policy": (_policy, "'MlpPolicy' or the dotted path of an ActorCriticPolicy subclass"),
+    "stats_window_size": (_positive_int, f"an integer in [1, {MAX_COUNT:.0e}]"),
+    "policy": (
+        _policy,
+        "an SB3 alias (MlpPolicy) or the dotted path of an ActorCriticPolicy subclass of "
+        "stable_baselines3 or acl_env.training.networks",
+    ),
     "policy_kwargs": (_policy_kwargs, "a dict or a dict(...) string"),
     "normalize": (_normalize, "a bool or a dict of VecNormalize arguments"),
     "env_kwargs": (lambda v: v is None or isinstance(v, dict), "a mapping"),
-    "callback": (_callback, "an importable dotted class path, or a list of them"),
+    "callback": (
+        _callback,
+        "the dotted path of a callback class of acl_env.training.callbacks or "
+        "stable_baselines3.common.callbacks (or {path: kwargs}), or a list of them",
+    ),
 }
 
 
@@ -156,5 +175,7 @@ def check_hyperparams(hyperparams: Mapping[str, Any], source: str = "hyperparame
         if not check(value):
             raise ConfigError(f"{source}: {key} must be {accepted_text}, got {value!r}")
     n_rollout = int(hyperparams.get("n_steps", 2048)) * int(hyperparams.get("n_envs", 1))
-    if n_rollout < 2:
-        raise ConfigError(f"{source}: n_steps x n_envs must be at least 2, got {n_rollout}")
+    if not 2 <= n_rollout <= MAX_ROLLOUT:
+        raise ConfigError(
+            f"{source}: n_steps x n_envs must be in [2, {MAX_ROLLOUT:.0e}], got {n_rollout}"
+        )

@@ -20,6 +20,7 @@ from acl_env import io
 # The one key:value parser is acl_env.io's; its value parser and words, re-exported.
 from acl_env.io import WORDS as WORDS
 from acl_env.io import parse_value as parse_value
+from acl_env.validation import shown
 
 
 class ArgumentParser(argparse.ArgumentParser):
@@ -30,18 +31,30 @@ class ArgumentParser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def int_at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer ``>= minimum``."""
+# Upper bounds of the command lines' counts: far beyond any use, short of what would hang or
+# exhaust memory (a 400-digit --episodes).
+MAX_SEED = 2**31 - 1  # numpy and SB3 seed with 32-bit integers; seed + env index stays valid
+MAX_COUNT = 10**12  # env steps, episodes
+MAX_PROCESSES = 1024  # workers, envs, threads
+
+
+def int_at_least(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
+    """An argparse type: an integer ``>= minimum`` (and ``<= maximum`` when given)."""
+    accepted = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
 
     def parse(text: str) -> int:
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(
-                f"expected an integer >= {minimum}, got {text!r}"
+                f"expected an integer {accepted}, got {shown(text)}"
             ) from None
         if value < minimum:
-            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {value}")
+            raise argparse.ArgumentTypeError(
+                f"expected an integer >= {minimum}, got {shown(value)}"
+            )
+        if maximum is not None and value > maximum:
+            raise argparse.ArgumentTypeError(f"expected an integer {accepted}, got {shown(value)}")
         return value
 
     parse.__name__ = f"int_at_least_{minimum}"
@@ -68,33 +81,90 @@ def existing_dir(text: str) -> Path:
 
 
 def output_file(*suffixes: str) -> Callable[[str], Path]:
-    """An argparse type: a file path to write later, checked now: its folder exists, it is not a
-    folder, and (if ``suffixes`` are given) its suffix is one of them. Nothing is created."""
+    """An argparse type: a file path to write later, checked now by
+    :func:`acl_env.io.check_output` (its folder exists and is writable, it is not a folder, its
+    suffix is one of ``suffixes`` when given). Nothing is left behind."""
 
     def parse(text: str) -> Path:
-        path = Path(text)
-        if path.is_dir():
-            raise argparse.ArgumentTypeError(f"expected a file path, got the folder {text!r}")
-        if not path.parent.is_dir():
-            raise argparse.ArgumentTypeError(
-                f"the folder {str(path.parent)!r} of {text!r} does not exist"
-            )
-        if suffixes and path.suffix.lower() not in suffixes:
-            raise argparse.ArgumentTypeError(
-                f"expected a file ending in {' or '.join(suffixes)}, got {text!r}"
-            )
-        return path
+        try:
+            return io.check_output(text, suffixes)
+        except ValueError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
 
     parse.__name__ = "output_file"
     return parse
 
 
-def key_value(text: str) -> tuple[str, Any]:
-    """An argparse type: ``key:value`` (zoo style), parsed by :func:`acl_env.io.parse_key_value`."""
+def output_folder(text: str) -> Path:
+    """An argparse type: a folder to write into later, made (with its parents) if missing: it is
+    not a file, and its nearest existing folder takes a new file (probed, nothing left)."""
+    path = Path(text)
+    existing = next((p for p in (path, *path.parents) if p.exists() or p.is_symlink()), Path("."))
+    if not existing.is_dir():
+        raise argparse.ArgumentTypeError(f"{str(existing)!r} (in {text!r}) is not a folder")
     try:
-        return io.parse_key_value(text)
+        io.check_writable_folder(existing, "the folder")
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(f"{error}, so {text!r} cannot be written") from None
+    return path
+
+
+def _out_of_range(value: Any) -> Any:
+    """The first number in ``value`` (nested lists, tuples, dicts) that is not finite or is an
+    integer too large for a float, else None."""
+    if isinstance(value, dict):
+        value = list(value.values())
+    if isinstance(value, list | tuple):
+        return next((v for v in map(_out_of_range, value) if v is not None), None)
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        try:
+            return None if math.isfinite(float(value)) else value
+        except OverflowError:
+            return value
+    return None
+
+
+def key_value(text: str) -> tuple[str, Any]:
+    """An argparse type: ``key:value`` (zoo style), parsed by :func:`acl_env.io.parse_key_value`;
+    a non-finite number (``1e309``) or an integer beyond float range (400 digits) is refused."""
+    try:
+        key, value = io.parse_key_value(text)
     except ValueError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
+    bad = _out_of_range(value)
+    if bad is not None:
+        raise argparse.ArgumentTypeError(
+            f"{key}: {shown(bad)} is not a finite number within float range"
+        )
+    return key, value
+
+
+def reward_weight(text: str) -> tuple[str, float]:
+    """An argparse type: ``term:weight``, the weight a finite number; its range is the env's
+    (``acl_env.envs.rewards.check_reward_weights``: ``|weight| <= REWARD_WEIGHT_MAX``)."""
+    from acl_env.envs.rewards import REWARD_WEIGHT_MAX
+
+    key, value = key_value(text)
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise argparse.ArgumentTypeError(f"{key}: expected a number, got {shown(value)}")
+    if abs(value) > REWARD_WEIGHT_MAX:
+        raise argparse.ArgumentTypeError(
+            f"{key}: {shown(value)} is outside [-{REWARD_WEIGHT_MAX:g}, {REWARD_WEIGHT_MAX:g}]"
+        )
+    return key, float(value)
+
+
+# The opt-in to load a Stable-Baselines3 folder's pickles (acl-evaluate, acl-train, export).
+TRUST_PICKLES_HELP = (
+    "load model.zip and vecnormalize.pkl of an SB3 folder: they are pickles, which can run "
+    "code when loaded; only for folders you made or trust (shipped and exported numpy policies "
+    "need no flag)"
+)
+
+
+def add_trust_pickles(parser: argparse.ArgumentParser) -> None:
+    """``--trust-pickles`` (:data:`TRUST_PICKLES_HELP`) on a command that may load SB3 files."""
+    parser.add_argument("--trust-pickles", action="store_true", help=TRUST_PICKLES_HELP)
 
 
 def importable_module(text: str) -> str:

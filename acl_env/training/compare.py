@@ -75,11 +75,13 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "--controller", default="policy", help="controller to pair (default policy)"
     )
     parser.add_argument("--labels", nargs=2, metavar=("A", "B"), help="names (default: file stems)")
-    parser.add_argument("--json", type=cli.output_file(".json"), help="write the differences here")
+    parser.add_argument(
+        "--json", type=cli.output_file(".json"), help="write the differences here (.json)"
+    )
     args = parser.parse_args(argv)
     try:
         result = compare(args.first, args.second, args.controller, args.labels)
-    except ValueError as err:
+    except (ValueError, OSError) as err:  # not an evaluation record, or unreadable
         parser.error(str(err))
     a, b = result["labels"]
     print(format_paired({b: result["paired"]}, reference=f"{a} ({args.controller})"))

@@ -179,15 +179,41 @@ def normalize_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any] | None:
     return kwargs
 
 
-def import_dotted(name: str) -> Any:
-    """The object a dotted path names (``package.module.Class``); ``ValueError`` if none."""
-    module, _, attr = name.rpartition(".")
+# What a config's ``callback:`` and ``policy:`` may name, an allow-list (a config is data; a class
+# it names is built with the arguments it gives): per key, the modules (and their submodules) a
+# dotted path may lie in, checked before anything is imported, and the base class it must have.
+ALLOWED_CLASSES: dict[str, tuple[tuple[str, ...], str]] = {
+    "callback": (
+        ("acl_env.training.callbacks", "stable_baselines3.common.callbacks"),
+        "stable_baselines3.common.callbacks.BaseCallback",
+    ),
+    "policy": (
+        ("acl_env.training.networks", "stable_baselines3"),
+        "stable_baselines3.common.policies.BasePolicy",
+    ),
+}
+
+
+def import_dotted(name: str, key: str = "callback") -> Any:
+    """The class a dotted path (``package.module.Class``) in a config's ``key`` (``callback`` or
+    ``policy``) names, if :data:`ALLOWED_CLASSES` allows it; ``ValueError`` saying why not. A
+    module outside the allow-list is never imported."""
+    modules, base_path = ALLOWED_CLASSES[key]
+    module, _, attr = name.rpartition(".") if isinstance(name, str) else ("", "", "")
     if not module:
         raise ValueError(f"not a dotted path: {name!r}")
+    if not any(module == m or module.startswith(f"{m}.") for m in modules):
+        raise ValueError(
+            f"{name!r} is not allowed for {key}: only classes of {' or '.join(modules)}"
+        )
     try:
         value = getattr(importlib.import_module(module), attr)
     except (ImportError, AttributeError) as error:
         raise ValueError(f"cannot import {name!r}: {error}") from error
+    base_module, _, base_name = base_path.rpartition(".")
+    base = getattr(importlib.import_module(base_module), base_name)
+    if not (isinstance(value, type) and issubclass(value, base)):
+        raise ValueError(f"{name!r} is not a {base_name} class, as {key} needs")
     return value
 
 
@@ -196,7 +222,7 @@ def algo_kwargs(hyperparams: dict[str, Any]) -> dict[str, Any]:
     dotted ``policy`` path imported (SB3's own aliases such as ``MlpPolicy`` stay strings)."""
     kwargs = {k: v for k, v in hyperparams.items() if k not in NON_ALGO_KEYS}
     if isinstance(kwargs.get("policy"), str) and "." in kwargs["policy"]:
-        kwargs["policy"] = import_dotted(kwargs["policy"])
+        kwargs["policy"] = import_dotted(kwargs["policy"], "policy")
     if isinstance(kwargs.get("policy_kwargs"), str):
         kwargs["policy_kwargs"] = parse_python_literal(kwargs["policy_kwargs"])
     for key in ("learning_rate", "clip_range", "clip_range_vf"):

@@ -19,9 +19,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
-from acl_env.io import write_json
+from acl_env.io import atomic_output, write_json
 from acl_env.training import cli
 
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 PANELS = {
     "charts/episode_climb": "episode climb (m)",
     "charts/slip": "slip per step (m)",
@@ -47,14 +48,21 @@ def read_curves(run_dir: str | Path) -> dict[str, list[tuple[int, float]]]:
 def main(argv: Sequence[str] | None = None) -> None:
     """Entry point (``acl-plot-curves``): plot the runs' curves, optionally write them as JSON."""
     parser = cli.ArgumentParser(prog="acl-plot-curves", description=(__doc__ or "").splitlines()[0])
-    parser.add_argument("runs", nargs="+", help="run folders (with tb/ logs)")
+    parser.add_argument(
+        "runs", nargs="+", type=cli.existing_dir, help="run folders (with tb/ logs)"
+    )
     parser.add_argument("--labels", nargs="*", help="one label per run (default: folder names)")
-    parser.add_argument("--out", required=True, help="image file")
+    parser.add_argument(
+        "--out",
+        required=True,
+        type=cli.output_file(*FIGURE_SUFFIXES),
+        help=f"image file ({', '.join(FIGURE_SUFFIXES)})",
+    )
     parser.add_argument("--json", type=cli.output_file(".json"), help="write the curves as JSON")
     parser.add_argument(
         "--start-steps",
         nargs="*",
-        type=cli.int_at_least(0),
+        type=cli.int_at_least(0, cli.MAX_COUNT),
         help="env steps each run starts at (default 0): a warm start's source run's length",
     )
     args = parser.parse_args(argv)
@@ -87,7 +95,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     # One legend under the panels: long labels neither cover the curves nor squeeze the panels.
     handles, names = axes[0].get_legend_handles_labels()
     fig.legend(handles, names, loc="outside lower center", ncols=2, fontsize=9, frameon=False)
-    fig.savefig(args.out, dpi=110)
+    with atomic_output(args.out) as path:
+        fig.savefig(path, dpi=110)
+    plt.close(fig)
     print(f"wrote {args.out}")
     if args.json:
         write_json(args.json, data, indent=None)

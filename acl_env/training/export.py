@@ -1,7 +1,12 @@
 """Export an SB3 policy folder as a pretrained, pickle-free one (:mod:`acl_env.pretrained`).
 
-``python -m acl_env.training.export SB3_FOLDER OUT_FOLDER --name NAME [--record docs/eval.json]
-[--commit SHA]``
+``python -m acl_env.training.export SB3_FOLDER OUT_FOLDER --name NAME --trust-pickles
+[--record docs/eval.json] [--commit SHA]``
+
+Reading an SB3 folder means unpickling its ``model.zip`` (and ``vecnormalize.pkl`` when it has no
+pickle-free ``vecnormalize.npz``), which can run code: the command needs ``--trust-pickles``
+like every other that loads one, so that converting a folder is never a way around the opt-in.
+Export the folders you made or trust; the exported folder is then safe to share.
 
 Writes ``policy.npz`` (the actor's weights, float32, and VecNormalize's observation statistics)
 and ``policy.json`` (env id and training env kwargs, network, action bounds, the training recipe,
@@ -14,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import io
-import pickle
 import shlex
 from collections.abc import Sequence
 from pathlib import Path
@@ -27,7 +31,7 @@ from acl_env.io import atomic_write, read_json, write_json
 from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
 from acl_env.training import cli
 from acl_env.training.policy import PolicyFolder, read_sb3_folder
-from acl_env.training.runs import ARGS_FILE, SUMMARY_FILE
+from acl_env.training.runs import ARGS_FILE, SUMMARY_FILE, read_vecnormalize, require_trust
 
 # What policy.json summarises of each controller of a published evaluation record.
 SUMMARY_METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "falls")
@@ -73,20 +77,19 @@ def actor_arrays(model: Any, source: Path) -> tuple[dict[str, np.ndarray], str, 
     return arrays, activations.pop(), widths
 
 
-def normalization_arrays(path: Path) -> dict[str, np.ndarray]:
-    """VecNormalize's observation statistics from ``vecnormalize.pkl`` (float64 as it keeps them),
-    with its ``clip_obs`` and ``epsilon``."""
+def normalization_arrays(path: Path, trust_pickles: bool = False) -> dict[str, np.ndarray]:
+    """VecNormalize's observation statistics (float64 as it keeps them), with its ``clip_obs``
+    and ``epsilon``, from ``vecnormalize.npz`` or (``trust_pickles``) ``vecnormalize.pkl``."""
+    stats = read_vecnormalize(path, trust_pickles)
     try:
-        stats = pickle.loads(path.read_bytes())  # the trusted SB3 file being converted
-        rms = stats.obs_rms
         return {
-            "obs_mean": np.asarray(rms.mean, dtype=np.float64),
-            "obs_var": np.asarray(rms.var, dtype=np.float64),
+            "obs_mean": np.asarray(stats.obs_rms.mean, dtype=np.float64),
+            "obs_var": np.asarray(stats.obs_rms.var, dtype=np.float64),
             "clip_obs": np.asarray(stats.clip_obs, dtype=np.float64),
             "epsilon": np.asarray(stats.epsilon, dtype=np.float64),
         }
-    except Exception as error:  # unpickling garbage raises anything
-        raise ValueError(f"{path} is not VecNormalize statistics ({error})") from error
+    except (AttributeError, TypeError, ValueError) as error:
+        raise ValueError(f"{path} is not VecNormalize statistics ({error})") from None
 
 
 def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> dict[str, Any]:
@@ -140,22 +143,25 @@ def export_policy(
     name: str,
     record: str | Path | None = None,
     commit: str | None = None,
+    trust_pickles: bool = False,
 ) -> Path:
     """Write ``policy.npz`` and ``policy.json`` of the SB3 folder's newest model into
     ``out_folder`` (made if missing); return it. ``ValueError`` naming the file that does not
-    read or a policy that does not export."""
+    read or a policy that does not export, or (a ``ValueError`` too) the SB3 folder without
+    ``trust_pickles``: its model is unpickled."""
     import stable_baselines3
     import torch
     from stable_baselines3 import PPO
 
     folder = read_sb3_folder(sb3_folder)
+    require_trust(folder.path, trust_pickles)
     try:
         model = PPO.load(folder.model, device="cpu")
     except Exception as error:  # a zip that is not an SB3 model fails in many ways
         raise ValueError(f"{folder.model} is not a PPO model ({error})") from error
     arrays, activation, widths = actor_arrays(model, folder.model)
     if folder.vecnormalize is not None:
-        arrays |= normalization_arrays(folder.vecnormalize)
+        arrays |= normalization_arrays(folder.vecnormalize, trust_pickles)
     space = model.action_space
     # The registered id whose defaults are the task it was trained on, where there is one.
     env_id, env_kwargs = on_benchmark_id(folder.env_id, folder.env_kwargs)
@@ -195,17 +201,29 @@ def main(argv: Sequence[str] | None = None) -> Path:
         description="Export an SB3 policy folder as a pickle-free pretrained one (npz + JSON).",
     )
     parser.add_argument("sb3_folder", type=cli.existing_dir, help="SB3 run or policy folder")
-    parser.add_argument("out_folder", type=Path, help="where policy.npz and policy.json go")
+    parser.add_argument(
+        "out_folder",
+        type=cli.output_folder,
+        help="where policy.npz and policy.json go (made if missing)",
+    )
     parser.add_argument("--name", required=True, help="the policy's name")
     parser.add_argument("--record", type=Path, help="its published evaluation record (JSON)")
     parser.add_argument("--commit", help="the git commit it was trained at")
+    cli.add_trust_pickles(parser)
     args: argparse.Namespace = parser.parse_args(argv)
     if args.record is not None and not args.record.is_file():
         parser.error(f"argument --record: {args.record} is not a file")
     try:
-        out = export_policy(args.sb3_folder, args.out_folder, args.name, args.record, args.commit)
+        out = export_policy(
+            args.sb3_folder,
+            args.out_folder,
+            args.name,
+            args.record,
+            args.commit,
+            args.trust_pickles,
+        )
     except (ValueError, KeyError) as error:
-        parser.error(str(error))
+        parser.error(f"argument sb3_folder: {error}")
     print(f"{out / WEIGHTS_FILE}\n{out / METADATA_FILE}")
     return out
 

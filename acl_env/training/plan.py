@@ -3,12 +3,13 @@ checked before any work, for a new run, a resume (``--resume``) or a warm start 
 
 :func:`plan_segment` turns the parsed command line into a :class:`Plan` or raises
 :class:`~acl_env.training.checks.ConfigError` naming the first bad argument; nothing is written.
+A resume or a warm start loads the run's ``model.zip`` (and ``vecnormalize.pkl`` when it has no
+pickle-free ``vecnormalize.npz``), which SB3 unpickles: only with ``--trust-pickles``.
 """
 
 from __future__ import annotations
 
 import argparse
-import pickle
 import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ import numpy as np
 import yaml
 
 from acl_env import ACL_CLIMB_ID, pretrained, shipped
+from acl_env.io import check_writable_folder
 from acl_env.training import cli, warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperparams
 from acl_env.training.config import (
@@ -33,9 +35,14 @@ from acl_env.training.runs import (
     ARGS_FILE,
     CONFIG_FILE,
     SUMMARY_FILE,
+    VECNORMALIZE_FILE,
+    UntrustedPickleError,
+    is_pickle,
     latest_model,
     model_steps,
     read_json,
+    read_vecnormalize,
+    require_trust,
     run_config,
 )
 
@@ -82,23 +89,35 @@ def make_parser() -> cli.ArgumentParser:
         "recipe, acl_env/data/ppo.yml)",
     )
     parser.add_argument(
-        "--seed", type=cli.int_at_least(0), help=f"run seed (default {DEFAULT_SETTINGS['seed']})"
+        "--seed",
+        type=cli.int_at_least(0, cli.MAX_SEED),
+        help=f"run seed (default {DEFAULT_SETTINGS['seed']})",
     )
     parser.add_argument(
         "--n-timesteps",
-        type=cli.int_at_least(1),
+        type=cli.int_at_least(1, cli.MAX_COUNT),
         help="env steps (overrides the config; on --resume: this many more, default: the rest)",
     )
-    parser.add_argument("--n-envs", type=cli.int_at_least(1), help="parallel envs (override)")
-    parser.add_argument("--run-dir", help="parent folder of run folders (default runs)")
+    parser.add_argument(
+        "--n-envs", type=cli.int_at_least(1, cli.MAX_PROCESSES), help="parallel envs (override)"
+    )
+    parser.add_argument(
+        "--run-dir",
+        type=cli.output_folder,
+        help="parent folder of run folders, made if missing (default runs)",
+    )
     parser.add_argument("--exp-name", help="experiment name in the run folder (default ppo)")
-    parser.add_argument("--resume", metavar="RUN_DIR", help="continue this run")
+    parser.add_argument(
+        "--resume", metavar="RUN_DIR", help="continue this run (with --trust-pickles)"
+    )
     parser.add_argument(
         "--init-from",
         metavar="POLICY_DIR",
         help="new run whose policy starts as this trained one (policy or run folder): its "
-        "weights and normalisation, its actions matched by name, new actions at mean 0",
+        "weights and normalisation, its actions matched by name, new actions at mean 0 (with "
+        "--trust-pickles)",
     )
+    cli.add_trust_pickles(parser)
     for option, what in (("--hyperparams", "PPO / zoo"), ("--env-kwargs", "env")):
         parser.add_argument(
             option,
@@ -106,11 +125,11 @@ def make_parser() -> cli.ArgumentParser:
             action="extend",
             type=cli.key_value,
             metavar="KEY:VALUE",
-            help=f"{what} overrides (may repeat)",
+            help=f"{what} overrides (may repeat; numbers finite)",
         )
     parser.add_argument(
         "--checkpoint-freq",
-        type=cli.int_at_least(1),
+        type=cli.int_at_least(1, cli.MAX_COUNT),
         help=f"env steps between checkpoints (default {DEFAULT_SETTINGS['checkpoint_freq']})",
     )
     parser.add_argument(
@@ -123,7 +142,7 @@ def make_parser() -> cli.ArgumentParser:
     parser.add_argument("--device", help="torch device (default cpu: MLP policies)")
     parser.add_argument(
         "--torch-threads",
-        type=cli.int_at_least(1),
+        type=cli.int_at_least(1, cli.MAX_PROCESSES),
         help="torch CPU threads (default 1: the env workers own the cores; 2 threads were 10x "
         "slower on a loaded 2-core machine)",
     )
@@ -134,7 +153,7 @@ def make_parser() -> cli.ArgumentParser:
     )
     parser.add_argument(
         "--workers",
-        type=cli.int_at_least(1),
+        type=cli.int_at_least(1, cli.MAX_PROCESSES),
         help="subprocesses sharing the envs (default: one per CPU core, at most n_envs)",
     )
     parser.add_argument("--no-progress-bar", action="store_true")
@@ -185,30 +204,33 @@ def _resumed_config(run_dir: Path) -> tuple[str, dict[str, Any]]:
     return config
 
 
+def _trusted(option: str, path: Path, trust_pickles: bool) -> None:
+    """Refuse ``option``'s SB3 folder unless ``--trust-pickles`` (before any file is read)."""
+    try:
+        require_trust(path, trust_pickles)
+    except UntrustedPickleError as error:
+        raise _bad(option, str(error)) from None
+
+
 def _check_saved_model(
-    model_path: Path, vecnorm_path: Path | None, normalize: bool, option: str = "--resume"
+    model_path: Path, stats_path: Path | None, normalize: bool, option: str = "--resume"
 ) -> Any:
-    """The saved model is an SB3 zip; the statistics unpickle to VecNormalize when expected
-    (returned; None when not). A bad file is reported as a bad ``option``."""
-
-    from stable_baselines3.common.vec_env import VecNormalize
-
+    """The saved model is an SB3 zip; its statistics (the pickle-free ``.npz`` when there is one,
+    else the ``.pkl``, trusted by then) read as VecNormalize statistics when expected (returned:
+    :func:`~acl_env.training.runs.read_vecnormalize`; None when not). A bad file is reported as
+    a bad ``option``."""
     if not zipfile.is_zipfile(model_path) or not {"data", "policy.pth"} <= set(
         zipfile.ZipFile(model_path).namelist()
     ):
         raise _bad(option, f"{model_path} is not a Stable-Baselines3 model (corrupt zip)")
     if not normalize:
         return None
-    if vecnorm_path is None:
+    if stats_path is None:
         raise _bad(option, f"the config normalises but {model_path.parent} has no statistics")
     try:
-        with open(vecnorm_path, "rb") as f:
-            loaded = pickle.load(f)
-    except Exception as error:  # pickle raises many kinds on garbage
-        raise _bad(option, f"{vecnorm_path} is corrupt ({type(error).__name__})") from None
-    if not isinstance(loaded, VecNormalize):
-        raise _bad(option, f"{vecnorm_path} holds a {type(loaded).__name__}, not VecNormalize")
-    return loaded
+        return read_vecnormalize(stats_path, trust_pickles=True)
+    except ValueError as error:
+        raise _bad(option, str(error)) from None
 
 
 def _run_history(run_dir: Path) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -248,6 +270,7 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         run_dir = Path(args.resume)
         if not run_dir.is_dir():
             raise _bad("--resume", f"no run folder {str(run_dir)!r}")
+        _trusted("--resume", run_dir, args.trust_pickles)
         env_id, hyperparams = _resumed_config(run_dir)
         source = f"{run_dir / CONFIG_FILE}"
         record, history = _run_history(run_dir)
@@ -280,6 +303,15 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         run_dir, model_path, vecnorm_path, history, segment = None, None, None, {}, 0
         if args.exp_name and not args.exp_name.replace("-", "").replace("_", "").isalnum():
             raise _bad("--exp-name", f"letters, digits, '-' and '_' only, got {args.exp_name!r}")
+    # Where the run writes, the default too: a folder that cannot be written fails now.
+    run_parent = Path(args.run_dir or "runs")
+    try:
+        if run_dir is not None:
+            check_writable_folder(run_dir, "the run folder")
+        else:
+            run_parent = cli.output_folder(str(run_parent))
+    except (ValueError, argparse.ArgumentTypeError) as error:
+        raise _bad("--resume" if args.resume else "--run-dir", str(error)) from None
     for name in DEFAULT_SETTINGS:
         if getattr(args, name) is not None:
             settings[name] = getattr(args, name)
@@ -312,7 +344,9 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
     try:
         policy = _check_policy_kwargs(probe, hyperparams)
         if args.init_from:
-            init_from = _check_init_from(args.init_from, probe, hyperparams, policy)
+            init_from = _check_init_from(
+                args.init_from, probe, hyperparams, policy, args.trust_pickles
+            )
     finally:
         probe.close()
     _check_device(str(settings["device"]))
@@ -321,6 +355,12 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
     if args.resume:
         assert model_path is not None
         _check_saved_model(model_path, vecnorm_path, normalize_kwargs(hyperparams) is not None)
+        if vecnorm_path is not None and not is_pickle(vecnorm_path):
+            # The trainer reloads the VecNormalize itself from the pickle beside the npz.
+            vecnorm_path = vecnorm_path.with_suffix(Path(VECNORMALIZE_FILE).suffix)
+            if not vecnorm_path.is_file():
+                raise _bad("--resume", f"{vecnorm_path} is missing: a resume reloads it")
+            _check_saved_model(model_path, vecnorm_path, True)
         try:
             trained = model_steps(model_path)
         except ValueError as error:
@@ -345,11 +385,11 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         segment=segment,
         segment_steps=segment_steps,
         run_dir=run_dir,
-        run_parent=Path(args.run_dir or "runs"),
+        run_parent=run_parent,
         exp_name=args.exp_name or "ppo",
         progress_bar=not args.no_progress_bar,
         argv=list(argv),
-        args={k: v for k, v in vars(args).items()},
+        args={k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()},
         resume_model=model_path,
         resume_vecnormalize=vecnorm_path,
         init_from=init_from,
@@ -358,7 +398,7 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
 
 
 def _check_init_from(
-    path: str, probe: Any, hyperparams: dict[str, Any], policy: Any
+    path: str, probe: Any, hyperparams: dict[str, Any], policy: Any, trust_pickles: bool
 ) -> warm_start.TrainedStart:
     """The trained policy of ``--init-from``, loaded and checked against the new run: the same
     observation, normalisation and network (``policy``, the new run's) but for the action
@@ -371,6 +411,9 @@ def _check_init_from(
             f"{path} is a pretrained (numpy) policy; warm starts need a training run folder "
             "(model.zip and its statistics)",
         )
+    if not Path(path).is_dir():
+        raise _bad("--init-from", f"no policy folder {path!r}")
+    _trusted("--init-from", Path(path), trust_pickles)
     try:
         folder = read_sb3_folder(path)
     except ValueError as error:

@@ -1,8 +1,11 @@
 """A trained policy folder, loaded for evaluation: model, frozen VecNormalize, its env config.
 
 A policy folder is a training run folder or a copy of its final files (``model.zip``,
-``vecnormalize.pkl``, ``config.yml``); see :mod:`acl_env.training.runs`. A pretrained folder
-(``policy.json``, :mod:`acl_env.pretrained`, as shipped) is read and played on numpy instead.
+``vecnormalize.pkl`` and/or ``vecnormalize.npz``, ``config.yml``); see
+:mod:`acl_env.training.runs`. Its ``model.zip`` is unpickled by SB3's loader, so
+:func:`load_policy` loads it only with ``trust_pickles`` (its statistics come from the
+pickle-free ``.npz`` when there is one). A pretrained folder (``policy.json``,
+:mod:`acl_env.pretrained`, as shipped) is read and played on numpy instead, no flag needed.
 Stable-Baselines3 is imported only when an SB3 policy is loaded. Every problem with a folder
 raises ``ValueError`` with a message that names the file and what was expected, so command lines
 can refuse it up front.
@@ -22,14 +25,21 @@ from acl_env import pretrained
 from acl_env.pretrained import PretrainedPolicy
 from acl_env.pretrained import SpaceMismatchError as SpaceMismatchError  # re-exported
 from acl_env.training.config import normalize_kwargs
-from acl_env.training.runs import CONFIG_FILE, latest_model, run_config
+from acl_env.training.runs import (
+    CONFIG_FILE,
+    latest_model,
+    load_vecnormalize,
+    require_trust,
+    run_config,
+)
 
 Policy = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
 class PolicyFolder:
-    """What a policy folder holds: its env id and config entry, model and statistics paths."""
+    """What a policy folder holds: its env id and config entry, model and statistics paths
+    (``vecnormalize``: the pickle-free ``.npz`` when there is one, else the ``.pkl``)."""
 
     path: Path
     env_id: str
@@ -61,7 +71,7 @@ def read_pretrained(path: str | Path) -> PretrainedPolicy:
 
 def read_sb3_folder(path: str | Path) -> PolicyFolder:
     """Check an SB3 policy or run folder's files and read its config; ``ValueError`` names what
-    is wrong."""
+    is wrong. Reads ``config.yml`` (safe YAML) and file names only: no pickle is loaded."""
     path = Path(path)
     if not path.is_dir():
         raise ValueError(f"{path} is not a folder")
@@ -90,22 +100,29 @@ def read_sb3_folder(path: str | Path) -> PolicyFolder:
     return PolicyFolder(path, env_id, dict(hyperparams), model, vecnormalize)
 
 
-def load_policy(folder: PolicyFolder | PretrainedPolicy | str | Path, env: gymnasium.Env) -> Policy:
+def load_policy(
+    folder: PolicyFolder | PretrainedPolicy | str | Path,
+    env: gymnasium.Env,
+    trust_pickles: bool = False,
+) -> Policy:
     """Deterministic actions of the folder's newest model for ``env``, observations normalised by
     its VecNormalize statistics frozen (``training=False``, ``norm_reward=False``); a pretrained
     folder's on numpy (the same actions).
 
-    ``ValueError`` if a file does not load, :class:`SpaceMismatchError` if the model's spaces
-    do not match ``env``'s.
+    An SB3 folder loads only with ``trust_pickles`` (its ``model.zip`` is unpickled, which can
+    run code): else :class:`~acl_env.training.runs.UntrustedPickleError` (a ``ValueError``),
+    before any file is opened. ``ValueError`` if a file does not load,
+    :class:`SpaceMismatchError` if the model's spaces do not match ``env``'s.
     """
     if not isinstance(folder, PolicyFolder | PretrainedPolicy):
         folder = read_policy_folder(folder)
     if isinstance(folder, PretrainedPolicy):
         folder.check_spaces(env)
         return folder
+    require_trust(folder.path, trust_pickles)
     import torch
     from stable_baselines3 import PPO
-    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+    from stable_baselines3.common.vec_env import DummyVecEnv
 
     torch.set_num_threads(1)  # one small MLP forward per step; threads would fight the workers
     try:
@@ -121,12 +138,7 @@ def load_policy(folder: PolicyFolder | PretrainedPolicy | str | Path, env: gymna
             )
     normalize: Callable[[np.ndarray], np.ndarray] = lambda obs: obs  # noqa: E731
     if folder.vecnormalize is not None:
-        try:
-            stats = VecNormalize.load(str(folder.vecnormalize), DummyVecEnv([lambda: env]))
-        except Exception as error:  # unpickling garbage raises anything
-            raise ValueError(
-                f"{folder.vecnormalize} is not VecNormalize statistics for this env ({error})"
-            ) from error
+        stats = load_vecnormalize(folder.vecnormalize, DummyVecEnv([lambda: env]), trust_pickles)
         stats.training, stats.norm_reward = False, False
         normalize = stats.normalize_obs
 

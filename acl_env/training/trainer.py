@@ -10,7 +10,11 @@ interruption, where the time went), ``checkpoints/`` and TensorBoard logs (``tb/
 
 Ctrl-C or SIGTERM stops at a consistent point: the gradient update in progress completes, the
 unfinished rollout is discarded, and the model, its VecNormalize statistics and its step count of
-the last completed update are saved (atomically: a second signal cannot corrupt them).
+the last completed update are saved (atomically: a second signal cannot corrupt them), and the
+process exits with status 0. Output that cannot be written (``| head``, or a ``tee`` killed by the
+same Ctrl-C) is dropped and never stops the save; ``summary.json`` records it (``output_lost``).
+A SIGINT ignored from the start (a background job: ``nohup acl-train ... &``) stays ignored;
+SIGTERM always stops the run.
 ``--resume RUN`` continues that run with its own config, seed and checkpoint frequency, with a
 fresh random stream derived from (seed, segment index).
 """
@@ -47,11 +51,17 @@ from acl_env.training.runs import (
     SUMMARY_FILE,
     VECNORMALIZE_FILE,
     checkpoint_paths,
+    load_vecnormalize,
     read_json,
     save_model,
     write_json,
 )
-from acl_env.training.signals import deferred_signals
+from acl_env.training.signals import (
+    GuardedOutput,
+    deferred_signals,
+    guarded_output,
+    is_output_failure,
+)
 from acl_env.training.timing import StepTimer as StepTimer
 from acl_env.training.timing import Timed, timed_env, workers_cpu_seconds
 
@@ -165,7 +175,19 @@ def run_segment(
     restore_signals: bool = True,
 ) -> Path:
     """Build the envs and the model, learn, save; return the run folder. SIGINT and SIGTERM are
-    deferred while it runs (see :func:`deferred_signals`)."""
+    deferred while it runs (see :func:`deferred_signals`), and stdout and stderr are guarded (see
+    :func:`guarded_output`): output that cannot be written is dropped, and the work is saved."""
+    with guarded_output() as output:
+        return _run_segment(plan, extra_callbacks, verbose, restore_signals, output)
+
+
+def _run_segment(
+    plan: Plan,
+    extra_callbacks: Sequence[Any],
+    verbose: int,
+    restore_signals: bool,
+    output: GuardedOutput,
+) -> Path:
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CallbackList
@@ -209,7 +231,8 @@ def run_segment(
         if plan.resume_model is not None:
             assert run_dir is not None
             if plan.resume_vecnormalize is not None:
-                env = VecNormalize.load(str(plan.resume_vecnormalize), env)
+                # The plan checked the folder is trusted (--trust-pickles) and the file reads.
+                env = load_vecnormalize(plan.resume_vecnormalize, env, trust_pickles=True)
                 env.training = True
             model = TimedPPO.load(plan.resume_model, env=env, device=settings["device"])
             model.set_random_seed(seed)
@@ -231,64 +254,71 @@ def run_segment(
         model.policy.forward = timer.wrap("policy_inference", model.policy.forward)
         config_callbacks = callbacks_from_config(plan.hyperparams.get("callback"))
     except BaseException:
-        env.close()
+        _close(env)
         raise
 
     stop, timing = SafeStopCallback(), TimingCallback()
     start_steps = model.num_timesteps
     segments = _previous_segments(plan.history)
+    error: BaseException | None = None
     with deferred_signals(stop.request_stop, restore=restore_signals):
-        if run_dir is None:
-            run_dir = _new_run_dir(plan.run_parent, plan.env_id, plan.exp_name, seed)
-            save_hyperparams(run_dir / CONFIG_FILE, plan.env_id, plan.hyperparams)
-        model.tensorboard_log = str(run_dir / "tb")
-        _record_args(run_dir, plan)
-        segment: dict[str, Any] = {
-            "segment": plan.segment,
-            "status": "running",
-            "started": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-            "seed": seed,
-            "start_steps": start_steps,
-            "n_envs": env.num_envs,
-            "vec_env": settings["vec_env"],
-            "workers": len(getattr(env.unwrapped, "processes", [])),
-            "torch_threads": torch.get_num_threads(),
-        }
-        write_json(run_dir / SUMMARY_FILE, _summary(plan, [*segments, segment], start_steps))
-        print(f"run folder: {run_dir}")
+        try:  # whatever happens, the workers are closed before this process may exit
+            if run_dir is None:
+                run_dir = _new_run_dir(plan.run_parent, plan.env_id, plan.exp_name, seed)
+                save_hyperparams(run_dir / CONFIG_FILE, plan.env_id, plan.hyperparams)
+            model.tensorboard_log = str(run_dir / "tb")
+            _record_args(run_dir, plan)
+            segment: dict[str, Any] = {
+                "segment": plan.segment,
+                "status": "running",
+                "started": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+                "seed": seed,
+                "start_steps": start_steps,
+                "n_envs": env.num_envs,
+                "vec_env": settings["vec_env"],
+                "workers": len(getattr(env.unwrapped, "processes", [])),
+                "torch_threads": torch.get_num_threads(),
+            }
+            write_json(run_dir / SUMMARY_FILE, _summary(plan, [*segments, segment], start_steps))
+            print(f"run folder: {run_dir}")
 
-        def save_checkpoint(steps: int) -> None:
-            (run_dir / CHECKPOINT_DIR).mkdir(exist_ok=True)
-            save_model(model, *checkpoint_paths(run_dir, steps))
+            def save_checkpoint(steps: int) -> None:
+                (run_dir / CHECKPOINT_DIR).mkdir(exist_ok=True)
+                save_model(model, *checkpoint_paths(run_dir, steps))
 
-        callbacks = [
-            timing,
-            stop,
-            RolloutCheckpointCallback(int(settings["checkpoint_freq"]), save_checkpoint),
-            *(config_callbacks or [InfoTermsCallback()]),
-            *extra_callbacks,
-        ]
-        setup_s = time.perf_counter() - setup_start
-        start, cpu_start = time.perf_counter(), time.process_time()
-        workers_cpu_start = workers_cpu_seconds(env)
-        error: BaseException | None = None
-        try:
-            model.learn(
-                total_timesteps=plan.segment_steps,
-                callback=CallbackList(callbacks),
-                tb_log_name="PPO",
-                reset_num_timesteps=plan.resume_model is None,
-                progress_bar=plan.progress_bar,
-            )
-        except Exception as exc:  # recorded, then raised again once the workers are closed
-            error = exc
-        learn_s = time.perf_counter() - start
-        cpu_s = {
-            "trainer": time.process_time() - cpu_start,
-            "workers": workers_cpu_seconds(env) - workers_cpu_start,
-        }
-        interrupted = error is None and stop.stop_signal is not None and stop.stopped_early
-        try:
+            callbacks = [
+                timing,
+                stop,
+                RolloutCheckpointCallback(int(settings["checkpoint_freq"]), save_checkpoint),
+                *(config_callbacks or [InfoTermsCallback()]),
+                *extra_callbacks,
+            ]
+            setup_s = time.perf_counter() - setup_start
+            start, cpu_start = time.perf_counter(), time.process_time()
+            workers_cpu_start = workers_cpu_seconds(env)
+            output_error: BaseException | None = None
+            try:
+                model.learn(
+                    total_timesteps=plan.segment_steps,
+                    callback=CallbackList(callbacks),
+                    tb_log_name="PPO",
+                    reset_num_timesteps=plan.resume_model is None,
+                    progress_bar=plan.progress_bar,
+                )
+            except BaseException as exc:  # recorded; an error is raised again after the save
+                if is_output_failure(exc):
+                    output_error = exc  # a writer gave up on a closed output: save all the same
+                else:
+                    error = exc
+            learn_s = time.perf_counter() - start
+            cpu_s = {
+                "trainer": time.process_time() - cpu_start,
+                "workers": workers_cpu_seconds(env) - workers_cpu_start,
+            }
+            signalled = stop.stop_signal is not None and stop.stopped_early
+            # An output failure that escaped the guards left learn() in or just after a rollout.
+            cut = output_error is not None and not stop.training_ended
+            interrupted = error is None and (signalled or cut)
             # An error may have cut a gradient update: then only the checkpoints stand.
             discarded = stop.rollback() if interrupted else 0
             save_start = time.perf_counter()
@@ -326,13 +356,16 @@ def run_segment(
             )
             if error is not None:
                 segment["error"] = f"{type(error).__name__}: {error}"
+            lost = output.lost
+            if output_error is not None:
+                lost.setdefault("output", f"{type(output_error).__name__}: {output_error}")
+            if lost:
+                segment["output_lost"] = lost  # from then on that output went to os.devnull
             write_json(
                 run_dir / SUMMARY_FILE, _summary(plan, [*segments, segment], model.num_timesteps)
             )
         finally:
-            if hasattr(env.unwrapped, "waiting"):
-                env.unwrapped.waiting = False  # nothing pending, or nothing worth reading
-            env.close()
+            _close(env)
     if error is not None:
         raise error
     print(
@@ -341,6 +374,13 @@ def run_segment(
     )
     print(f"saved {run_dir / MODEL_FILE} at {model.num_timesteps} steps")
     return run_dir
+
+
+def _close(env: Any) -> None:
+    """Close the envs and their workers; a step reply still pending is not worth reading."""
+    if hasattr(env.unwrapped, "waiting"):
+        env.unwrapped.waiting = False
+    env.close()
 
 
 def _record_args(run_dir: Path, plan: Plan) -> None:
@@ -364,13 +404,14 @@ def train(argv: Sequence[str] | None = None, restore_signals: bool = True) -> Pa
     """Check the command line, then train; return the run folder. A refused command line exits
     with status 2 and a one-line message, before any work."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    parser = make_parser()
-    args = parser.parse_args(argv)
-    try:
-        plan = plan_segment(args, argv)
-    except (ConfigError, argparse.ArgumentTypeError) as error:
-        parser.error(str(error))
-    return run_segment(plan, restore_signals=restore_signals)
+    with guarded_output():  # a closed stdout (``| true``) fails no write
+        parser = make_parser()
+        args = parser.parse_args(argv)
+        try:
+            plan = plan_segment(args, argv)
+        except (ConfigError, argparse.ArgumentTypeError) as error:
+            parser.error(str(error))
+        return run_segment(plan, restore_signals=restore_signals)
 
 
 def main(argv: Sequence[str] | None = None) -> None:

@@ -88,6 +88,7 @@ def run(
     timeconsts: list[float],
     overrides: dict[str, Any],
     progress: bool = True,
+    trust_pickles: bool = False,
 ) -> dict[str, Any]:
     """Every physics setting x (the policy at each hold, the zero action) on seeds 0..episodes-1."""
     folder = read_policy_folder(policy_dir)
@@ -98,7 +99,7 @@ def run(
     for label, dt, options in cells:
         env = gymnasium.make(folder.env_id, **kwargs, **({} if dt is None else {"timestep": dt}))
         apply_physics_options(env.unwrapped.model, options)
-        policy = load_policy(folder, env)
+        policy = load_policy(folder, env, trust_pickles=trust_pickles)
         for k in [*holds, 0]:  # 0: the zero action
             name = (
                 "zero action (its gait)" if k == 0 else "policy" if k == 1 else f"policy, held {k}"
@@ -211,6 +212,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         args.contact_timeconsts,
         args.env_kwargs,
         progress=not args.no_progress_bar,
+        trust_pickles=args.trust_pickles,
     )
     print_table(document)
     write_outputs(args, document, plot)

@@ -31,7 +31,7 @@ from acl_env.evaluation.baselines import (
     build_controllers,
 )
 from acl_env.evaluation.runner import evaluate, make_pool
-from acl_env.scripts import make_parser, save_figure, use_agg, write_output
+from acl_env.scripts import add_trust_pickles, make_parser, save_figure, use_agg, write_output
 from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
@@ -109,6 +109,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     plot = "with --pole-radii: climb and episodes ended against the radius"
     parser = make_parser(__doc__, plot=plot, episodes=5, workers=2, env_kwargs=True)
     parser.add_argument("--policy", type=cli.existing_dir, default=DEFAULT_POLICY)
+    add_trust_pickles(parser)
     parser.add_argument(
         "--tuned-gaits", type=Path, default=DEFAULT_TUNED_GAITS, help="the tuned open-loop gaits"
     )
@@ -138,7 +139,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     except ValueError as error:
         parser.error(f"argument --policy: {error}")
     try:  # a tuned-gaits file that is not one: refused before any episode
-        _, notes = build_controllers(folder, shared, None, args.tuned_gaits, args.tuned_key)
+        _, notes = build_controllers(
+            folder, shared, None, args.tuned_gaits, args.tuned_key, args.trust_pickles
+        )
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
     if args.tuned_key is not None and any(n.startswith("open_loop_tuned: skipped") for n in notes):
@@ -153,7 +156,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ]:
         shares = {}
         for controller in build_controllers(
-            folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
+            folder,
+            {**shared, **overrides},
+            None,
+            args.tuned_gaits,
+            args.tuned_key,
+            args.trust_pickles,
         )[0]:
             try:
                 env = check_env_kwargs(controller.env_id, controller.env_kwargs)
@@ -170,7 +178,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     pool = make_pool(args.workers)  # one set of workers for every cell
     for (label, overrides), shares in zip(conditions, clipped, strict=True):
         controllers, notes = build_controllers(
-            folder, {**shared, **overrides}, None, args.tuned_gaits, args.tuned_key
+            folder,
+            {**shared, **overrides},
+            None,
+            args.tuned_gaits,
+            args.tuned_key,
+            args.trust_pickles,
         )
         results = evaluate(controllers, seeds, progress=False, pool=pool)
         row: dict = {"condition": label, "overrides": overrides}

@@ -87,11 +87,12 @@ def run(
     groups: list[tuple[int, int]],
     overrides: dict[str, Any],
     progress: bool = True,
+    trust_pickles: bool = False,
 ) -> dict[str, Any]:
     """The policy, the policy with each group zeroed, and the zero action, on seeds 0..n-1."""
     folder = read_policy_folder(policy_dir)
     env = gymnasium.make(folder.env_id, **{**evaluation_env_kwargs(folder), **overrides})
-    policy = load_policy(folder, env)
+    policy = load_policy(folder, env, trust_pickles=trust_pickles)
     columns = joint_columns(env)
     controllers: list[tuple[str, Any]] = [("policy", None)]
     controllers += [(f"policy, joints {lo}-{hi} zeroed", (lo, hi)) for lo, hi in groups]
@@ -186,7 +187,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         if hi >= n_joints:
             parser.error(f"--groups {lo}-{hi}: the snake's joints are 0-{n_joints - 1}")
     progress = not args.no_progress_bar
-    document = run(args.policy, args.episodes, args.groups, args.env_kwargs, progress)
+    document = run(
+        args.policy, args.episodes, args.groups, args.env_kwargs, progress, args.trust_pickles
+    )
     print_table(document)
     write_outputs(args, document, plot)
     return document

@@ -34,7 +34,14 @@ from acl_env.evaluation.baselines import (
     build_controllers,
     shown_path,
 )
-from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_output
+from acl_env.scripts import (
+    add_trust_pickles,
+    make_parser,
+    save_figure,
+    seeds,
+    use_agg,
+    write_output,
+)
 from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
@@ -74,6 +81,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         progress=True,
     )  # fmt: skip
     parser.add_argument("--policy", type=Path, default=DEFAULT_POLICY)
+    add_trust_pickles(parser)
     parser.add_argument("--bins", type=cli.int_at_least(1), default=10, help="phase bins per cycle")
     args = parser.parse_args(argv)
     try:
@@ -81,7 +89,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     except ValueError as error:
         parser.error(f"argument --policy: {error}")
     overrides = args.env_kwargs
-    built, _ = build_controllers(folder, overrides, None, DEFAULT_TUNED_GAITS)
+    built, _ = build_controllers(
+        folder, overrides, None, DEFAULT_TUNED_GAITS, trust_pickles=args.trust_pickles
+    )
     controllers = {c.name: c for c in built}
     try:
         check_env_kwargs(folder.env_id, controllers["policy"].env_kwargs).close()

@@ -107,7 +107,9 @@ def resolve(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def write(path: str | Path, key: str, new_entry: Mapping[str, Any]) -> None:
-    """Replace ``key`` in the JSON file at ``path`` (other entries kept), atomically."""
+    """Replace ``key`` in the JSON file at ``path`` (other entries kept), atomically: a reader
+    sees the old file or the new one, and a symbolic link at ``path`` is replaced by the file,
+    never written through to its target."""
     path = Path(path)
     document = read(path) if path.is_file() else {}
     document[key] = dict(new_entry)

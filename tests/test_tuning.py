@@ -418,7 +418,7 @@ def test_also_plot_names_an_existing_study(
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert err.count("\n") == 1 and "--also-plot" in err and "nosuch" in err
-    assert load(tmp_path).get_trials(states=FINISHED) == []  # refused before any trial
+    assert not (tmp_path / "study.db").exists()  # refused before the study was created
 
 
 def tune_recording(
@@ -516,3 +516,54 @@ def test_defaults_write_only_under_runs_and_never_the_shipped_file(
     printed = capsys.readouterr().out
     assert json.loads(printed[: printed.index("\nfrontier figure")]) == {"acl": jsonable(entry)}
     assert shipped_gaits.read_bytes() == before
+
+
+def test_symbolic_links_at_the_outputs_are_replaced_not_written_through(tmp_path: Path) -> None:
+    """A link at ``--output`` or ``--plot`` pointing out of its folder: the tuner replaces the
+    link with its file (atomically), and the link's target outside stays as it was."""
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    target_gaits, target_plot = outside / "gaits.json", outside / "figure.png"
+    target_gaits.write_text('{"kept": {"env_id": "x"}}\n')
+    target_plot.write_bytes(b"not a figure")
+    (tmp_path / "tuned.json").symlink_to(target_gaits)
+    (tmp_path / "frontier_acl.png").symlink_to(target_plot)
+    main(tiny_args(tmp_path, "--n-trials", "2", "--validate-seeds", "1", "--validate-top", "1"))
+    assert target_gaits.read_text() == '{"kept": {"env_id": "x"}}\n'
+    assert target_plot.read_bytes() == b"not a figure"
+    for name in ("tuned.json", "frontier_acl.png"):
+        assert not (tmp_path / name).is_symlink() and (tmp_path / name).is_file()
+    assert "acl" in tuned_gaits.read(tmp_path / "tuned.json")
+    assert (tmp_path / "frontier_acl.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_nothing_is_written_when_validation_finds_no_gait(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The tuned gaits and the figure are written only after the study and its validation: a
+    study with no qualified trial (every gait touches the pole over 0.001 deg) writes neither,
+    exit 1."""
+    with pytest.raises(SystemExit) as exc:
+        main(tiny_args(tmp_path, "--n-trials", "2", "--max-arc", "0.001"))
+    assert exc.value.code == 1
+    assert "no qualified trial" in capsys.readouterr().err
+    assert not (tmp_path / "tuned.json").exists() and not (tmp_path / "frontier_acl.png").exists()
+
+
+def test_a_worker_waits_for_a_trial_running_elsewhere_and_retries_it_when_its_heartbeat_stops(
+    tmp_path: Path,
+) -> None:
+    """A trial left RUNNING by a dead worker (no heartbeat since) is failed after the grace
+    period and queued again; the worker that finds it runs the retry and completes the study."""
+    main(tiny_args(tmp_path, "--n-trials", "2", "--heartbeat", "1", "--plot", ""))
+    study = load(tmp_path)
+    with pytest.warns(UserWarning, match="Heartbeat"):  # a trial outside Study.optimize
+        stale = study.ask()  # RUNNING, its heartbeat recorded once: as if its worker was killed
+    stale.set_user_attr("heartbeat", 1)
+    open_storage(str(tmp_path / "study.db"), 1).record_heartbeat(stale._trial_id)
+    main(tiny_args(tmp_path, "--n-trials", "3", "--heartbeat", "1", "--plot", ""))
+    trials = load(tmp_path).get_trials()
+    assert trials[stale.number].state == optuna.trial.TrialState.FAIL
+    retried = [t for t in trials if t.system_attrs.get("failed_trial") == stale.number]
+    assert len(retried) == 1 and retried[0].state in FINISHED
+    assert len(load(tmp_path).get_trials(states=FINISHED)) == 3

@@ -26,6 +26,7 @@ from acl_env.tuning.frontier import (
     pareto_front,
     plot_frontier,
     policy_point,
+    render_frontier,
 )
 from acl_env.tuning.objective import (
     DEFAULT_SEEDS,
@@ -85,6 +86,7 @@ __all__ = [
     "plot_frontier",
     "policy_point",
     "prepare_study",
+    "render_frontier",
     "rollout",
     "rollout_all",
     "run",

@@ -8,6 +8,10 @@ the frontier figure ``runs/frontier_{key}.png``::
     acl-tune-gait --n-trials 300                  # rolling ACL, training reward weights
     acl-tune-gait --no-roll --n-trials 300        # non-rolling ACL, key acl_noroll
     acl-tune-gait --n-jobs 2 --storage sqlite:///runs/tune_gait.db   # two worker processes
+    acl-tune-gait --storage postgresql://user:pw@host/db   # one worker per machine, one study
+
+Every option is checked before the study starts (:mod:`acl_env.tuning.checks`): a bad one exits
+with status 2 and one line naming it, and nothing is written.
 """
 
 from __future__ import annotations
@@ -15,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -24,15 +29,32 @@ import optuna
 import yaml
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, shipped, tuned_gaits
+from acl_env.envs.arguments import CYCLES_PER_EPISODE_RANGE, STEPS_PER_CYCLE_RANGE
 from acl_env.gait.gaits import DEFAULT_POLE_RADIUS
-from acl_env.io import jsonable
-from acl_env.training.cli import ArgumentParser, int_at_least, script
+from acl_env.io import atomic_write, jsonable
+from acl_env.training.cli import ArgumentParser, pairs_to_dict, reward_weight, script
 from acl_env.training.config import load_hyperparams
-from acl_env.tuning.frontier import plot_frontier, policy_point
+from acl_env.tuning.checks import (
+    SAMPLER_SEED_RANGE,
+    SEED_RANGE,
+    check_output,
+    check_plot,
+    check_recipe,
+    check_storage,
+    finite_float,
+    int_in,
+)
+from acl_env.tuning.frontier import policy_point, render_frontier
 from acl_env.tuning.objective import DEFAULT_SEEDS, OBJECTIVES, TuneSettings
-from acl_env.tuning.space import CONDITIONS, UsageError, parse_condition, parse_pairs, parse_space
+from acl_env.tuning.space import CONDITIONS, UsageError, parse_condition, parse_space
 from acl_env.tuning.stop import catch_stop_signals, restore_signals
-from acl_env.tuning.study import open_storage, prepare_study, run_study
+from acl_env.tuning.study import (
+    DEFAULT_HEARTBEAT,
+    open_storage,
+    prepare_study,
+    run_study,
+    sqlite_path,
+)
 from acl_env.tuning.validation import tuned_entry, validate
 
 DEFAULT_CONFIG = shipped.recipe_path()
@@ -47,7 +69,6 @@ def make_parser() -> ArgumentParser:
         prog="acl-tune-gait",
         description="Tune the open-loop ACL gait with Optuna (parallel, resumable).",
     )
-    positive = int_at_least(1)
     parser.add_argument("--no-roll", action="store_true", help="rolls_per_cycle=0 (key acl_noroll)")
     parser.add_argument(
         "--env",
@@ -64,6 +85,7 @@ def make_parser() -> ArgumentParser:
     parser.add_argument(
         "--reward-weights",
         nargs="*",
+        type=reward_weight,
         default=None,
         metavar="TERM:WEIGHT",
         help="env reward weights (default: the --config entry's for the env)",
@@ -83,40 +105,59 @@ def make_parser() -> ArgumentParser:
     )
     parser.add_argument(
         "--n-trials",
-        type=positive,
+        type=int_in(1, 10**6),
         default=300,
         help="the study's total trials: a rerun, or another process, runs only what is missing",
     )
-    parser.add_argument("--n-jobs", type=positive, default=1, help="worker processes")
+    parser.add_argument("--n-jobs", type=int_in(1, 1024), default=1, help="worker processes")
     parser.add_argument(
-        "--storage", default=str(DEFAULT_STORAGE), help="SQLite file or Optuna storage URL"
+        "--storage",
+        default=str(DEFAULT_STORAGE),
+        help="SQLite file or Optuna storage URL (postgresql://user:password@host/db: workers on "
+        "several machines share one study)",
+    )
+    parser.add_argument(
+        "--heartbeat",
+        type=int_in(0, 3600),
+        default=DEFAULT_HEARTBEAT,
+        metavar="SECONDS",
+        help="each running trial records a heartbeat this often; one silent for 4 heartbeats "
+        "(its worker killed) is marked failed and run again by another worker (0: off)",
     )
     parser.add_argument("--study-name", default=None, help="default: the key")
     parser.add_argument("--key", default=None, help="entry in --output (acl / acl_noroll)")
-    parser.add_argument("--seeds", type=int, nargs="+", default=list(DEFAULT_SEEDS))
-    parser.add_argument("--steps-per-cycle", type=int_at_least(2), default=220)
-    parser.add_argument("--cycles", type=positive, default=2, help="gait cycles per episode")
+    parser.add_argument("--seeds", type=int_in(*SEED_RANGE), nargs="+", default=list(DEFAULT_SEEDS))
+    parser.add_argument("--steps-per-cycle", type=int_in(*STEPS_PER_CYCLE_RANGE), default=220)
+    parser.add_argument(
+        "--cycles",
+        type=int_in(*CYCLES_PER_EPISODE_RANGE),
+        default=2,
+        help="gait cycles per episode",
+    )
     parser.add_argument(
         "--max-clipped",
-        type=float,
+        type=finite_float,
         default=0.1,
         help="largest share of the keyframe table's joint angles the +-90 deg limit may clip",
     )
     parser.add_argument(
         "--max-arc",
-        type=float,
+        type=finite_float,
         default=None,
         help="disqualify gaits whose largest touched arc (deg) exceeds this on any seed "
         "(default: 90 with --no-roll, so the tuned gait truly does not roll; none otherwise)",
     )
     parser.add_argument(
         "--validate-seeds",
-        type=int_at_least(0),
+        type=int_in(0, 1000),
         default=10,
         help="new seeds on which the best trials are re-measured before one is picked (0: none)",
     )
     parser.add_argument(
-        "--validate-top", type=positive, default=5, help="how many of the best trials to re-measure"
+        "--validate-top",
+        type=int_in(1, 1000),
+        default=5,
+        help="how many of the best trials to re-measure",
     )
     parser.add_argument(
         "--space", nargs="*", default=[], metavar="NAME:LOW:HIGH", help="search range overrides"
@@ -124,9 +165,12 @@ def make_parser() -> ArgumentParser:
     parser.add_argument(
         "--output",
         default=str(DEFAULT_OUTPUT),
-        help="tuned-gaits JSON file (the key's entry replaced)",
+        help="tuned-gaits JSON file (the key's entry replaced, atomically; a symbolic link there "
+        "is replaced, never written through)",
     )
-    parser.add_argument("--plot", default=DEFAULT_PLOT, help="frontier figure ('' for none)")
+    parser.add_argument(
+        "--plot", default=DEFAULT_PLOT, help="frontier figure, {key} the key ('' for none)"
+    )
     parser.add_argument(
         "--policy-point",
         action="append",
@@ -142,7 +186,7 @@ def make_parser() -> ArgumentParser:
         metavar="STUDY",
         help="other studies in --storage whose gaits join the frontier figure",
     )
-    parser.add_argument("--sampler-seed", type=int, default=None)
+    parser.add_argument("--sampler-seed", type=int_in(*SAMPLER_SEED_RANGE), default=None)
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
 
@@ -165,15 +209,22 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
     if args.reward_weights is None:
         try:
             hyperparams = load_hyperparams(args.config, env_id)
-        except (OSError, KeyError, ValueError, yaml.YAMLError) as exc:
-            raise UsageError("--config", str(exc).splitlines()[0]) from None
+        except (OSError, KeyError, ValueError, TypeError, AttributeError, yaml.YAMLError) as exc:
+            message = str(exc).splitlines()[0]
+            where = "" if args.config in message else f"{args.config} entry {env_id}: "
+            raise UsageError("--config", f"{where}{message}") from None
+        if not isinstance(hyperparams, dict):
+            raise UsageError("--config", f"{args.config} entry {env_id} is not a mapping")
+        check_recipe(hyperparams, env_id, f"{args.config} entry {env_id}")
         weights = dict((hyperparams.get("env_kwargs") or {}).get("reward_weights") or {})
     else:
-        weights = parse_pairs(args.reward_weights, "--reward-weights")
-    try:  # the env checks the weights' names and values
-        gymnasium.make(env_id, steps_per_cycle=args.steps_per_cycle, reward_weights=weights).close()
-    except (ValueError, TypeError) as exc:
-        raise UsageError("--reward-weights", str(exc)) from None
+        try:
+            weights = pairs_to_dict("--reward-weights", args.reward_weights)
+        except argparse.ArgumentTypeError as exc:
+            raise UsageError("--reward-weights", str(exc).split(": ", 1)[1]) from None
+    _check_env(env_id, "--reward-weights", reward_weights=weights)
+    _check_env(env_id, "--steps-per-cycle", steps_per_cycle=args.steps_per_cycle)
+    _check_env(env_id, "--cycles", cycles_per_episode=args.cycles)
     condition = parse_condition(args.condition)
     radii = condition.get("pole_radius", DEFAULT_POLE_RADIUS)
     # the thinnest pole leaves the least helix radius for the radial wave
@@ -192,15 +243,26 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         condition=condition,
     )
     for values in settings.conditions():  # the env checks the condition's values
-        try:
-            gymnasium.make(env_id, **values).close()
-        except (ValueError, TypeError) as exc:
-            raise UsageError("--condition", str(exc)) from None
+        _check_env(env_id, "--condition", **values)
     return settings
 
 
+def _check_env(env_id: str, option: str, **kwargs: Any) -> None:
+    """Build the env with ``kwargs`` once, so that its own checks refuse them naming ``option``."""
+    try:
+        with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
+            warnings.simplefilter("ignore", DeprecationWarning)
+            gymnasium.make(env_id, **kwargs).close()
+    except (ValueError, TypeError, OverflowError) as exc:
+        message = str(exc).split(" was raised from the environment creator")[0]
+        raise UsageError(option, message) from None
+
+
 def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
-    """Tune, then write the best gait to ``--output`` and the frontier figure; return the entry."""
+    """Tune, then write the best gait to ``--output`` and the frontier figure; return the entry.
+
+    Every option is checked first: nothing is written (no study database either) unless all pass.
+    """
     parser = make_parser()
     args = parser.parse_args(argv)
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -208,24 +270,19 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     study_name = args.study_name or key
     try:
         settings = settings_from_args(args)
-        policies = []
-        for given in args.policy_point:
-            spec, _, label = given.partition("=")
-            path, _, controller = spec.partition(":")
-            try:
-                point = policy_point(path, controller or "policy")
-            except (OSError, KeyError, ValueError, TypeError) as exc:
-                raise UsageError("--policy-point", f"cannot read {given}: {exc!r}") from None
-            policies.append((label or controller or "policy", point))
-        prepare_study(settings, args.storage, study_name)  # bad storage fails before any trial
-        others = []
-        for name in args.also_plot:
-            try:
-                others.append(
-                    optuna.load_study(study_name=name, storage=open_storage(args.storage))
-                )
-            except KeyError:
-                raise UsageError("--also-plot", f"no study {name!r} in {args.storage}") from None
+        output = check_output(args.output)
+        plot = check_plot(args.plot, key)
+        check_storage(args.storage)
+        policies = _policy_points(args.policy_point)
+        others = _other_studies(args.storage, args.also_plot, args.heartbeat)
+        database = sqlite_path(args.storage)
+        new_file = database is not None and not database.exists()
+        try:  # last: it creates the study (and a new SQLite file)
+            prepare_study(settings, args.storage, study_name, args.heartbeat)
+        except UsageError:
+            if new_file and database is not None:
+                database.unlink(missing_ok=True)
+            raise
     except UsageError as exc:
         parser.error(str(exc))
     previous = catch_stop_signals()
@@ -238,6 +295,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
             args.n_jobs,
             args.sampler_seed,
             progress=not args.no_progress_bar,
+            heartbeat=args.heartbeat,
         )
     except KeyboardInterrupt:
         print(
@@ -246,6 +304,9 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
             file=sys.stderr,
         )
         raise SystemExit(130) from None
+    except RuntimeError as exc:
+        print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
+        raise SystemExit(1) from None
     finally:
         restore_signals(previous)
     try:
@@ -254,19 +315,56 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
         raise SystemExit(1) from None
     entry = tuned_entry(study, settings, chosen, validation)
-    tuned_gaits.write(args.output, key, entry)
-    print(json.dumps(jsonable({key: entry}), indent=2))
-    if args.plot:
-        plot = args.plot.format(key=key)
+    image = None
+    if plot is not None:  # drawn before anything is written: a failure here writes nothing
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
         title = (
             f"{key}: {entry['trials']} open-loop gaits on {settings.env_id}, {len(settings.seeds)}"
             f" seeds each, {settings.steps_per_cycle} steps per gait cycle"
             f"\n{settings.objective} with reward weights {weights}"
         )
-        plot_frontier(study, settings, plot, title, chosen, policies, others)
+        image = render_frontier(
+            study, settings, title, chosen, policies, others, plot.suffix.lstrip(".").lower()
+        )
+    tuned_gaits.write(output, key, entry)
+    print(json.dumps(jsonable({key: entry}), indent=2))
+    if plot is not None and image is not None:
+        plot.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write(plot, image)
         print(f"frontier figure: {plot}")
     return entry
+
+
+def _policy_points(given: Sequence[str]) -> list[tuple[str, dict[str, float]]]:
+    """``--policy-point EVAL_JSON[:CONTROLLER][=LABEL]`` items as (label, point)."""
+    policies = []
+    for item in given:
+        spec, _, label = item.partition("=")
+        path, _, controller = spec.partition(":")
+        try:
+            point = policy_point(path, controller or "policy")
+        except (OSError, KeyError, ValueError, TypeError, OverflowError) as exc:
+            raise UsageError("--policy-point", f"cannot read {item}: {exc!r}") from None
+        policies.append((label or controller or "policy", point))
+    return policies
+
+
+def _other_studies(storage: str, names: Sequence[str], heartbeat: int) -> list[optuna.Study]:
+    """The ``--also-plot`` studies, which must exist in ``storage`` (a new SQLite file holds
+    none, and is not created to find out)."""
+    if not names:
+        return []
+    database = sqlite_path(storage)
+    if database is not None and not database.exists():
+        raise UsageError("--also-plot", f"no study {names[0]!r} in {storage} (no such file)")
+    rdb = open_storage(storage, heartbeat)
+    others = []
+    for name in names:
+        try:
+            others.append(optuna.load_study(study_name=name, storage=rdb))
+        except KeyError:
+            raise UsageError("--also-plot", f"no study {name!r} in {storage}") from None
+    return others
 
 
 # The console script (pyproject.toml): main() without its returned document.

@@ -3,6 +3,7 @@ no other beats on both, and where learned controllers (of evaluation JSONs) land
 
 from __future__ import annotations
 
+import io
 import itertools
 import math
 from collections.abc import Mapping, Sequence
@@ -12,6 +13,7 @@ import numpy as np
 import optuna
 
 from acl_env.evaluation.records import controller_summary, read_record
+from acl_env.io import atomic_write
 from acl_env.tuning.objective import TuneSettings
 from acl_env.tuning.study import FINISHED
 
@@ -55,9 +57,27 @@ def plot_frontier(
     policies: Sequence[tuple[str, Mapping[str, float]]] = (),
     others: Sequence[optuna.Study] = (),
 ) -> None:
-    """Every trial's climb per gait cycle (left) and slip per metre (right) against its energy
-    per metre: the open-loop frontiers, with labelled policy points
-    (:func:`policy_point`) where a learned controller lands.
+    """:func:`render_frontier` written to ``path`` (its suffix the format), atomically: a
+    symbolic link there is replaced, never written through."""
+    path = Path(path)
+    image = render_frontier(study, settings, title, chosen, policies, others, path.suffix[1:])
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write(path, image)
+
+
+def render_frontier(
+    study: optuna.Study,
+    settings: TuneSettings,
+    title: str,
+    chosen: optuna.trial.FrozenTrial | None = None,
+    policies: Sequence[tuple[str, Mapping[str, float]]] = (),
+    others: Sequence[optuna.Study] = (),
+    image_format: str = "png",
+) -> bytes:
+    """The frontier figure as a file's bytes in ``image_format``: every trial's climb per gait
+    cycle (left) and slip per metre (right) against its energy per metre: the open-loop
+    frontiers, with labelled policy points (:func:`policy_point`) where a learned controller
+    lands.
 
     ``others``: studies (of other objectives or ranges) whose qualified gaits join the frontier,
     drawn in grey.
@@ -165,6 +185,7 @@ def plot_frontier(
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="best")
     fig.suptitle(title, fontsize=9)
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format=image_format or "png", dpi=120)
     plt.close(fig)
+    return buffer.getvalue()

@@ -16,6 +16,7 @@ import itertools
 import math
 import os
 import socket
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -92,7 +93,9 @@ class TuneSettings:
     def make_envs(self, params: Mapping[str, float]) -> list[gymnasium.Env]:
         """One env per condition playing the gait ``params`` under the protocol."""
         kwargs = {**self.protocol_kwargs(), **self.env_kwargs(params)}
-        return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]
+        with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
+            warnings.simplefilter("ignore", DeprecationWarning)
+            return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]
 
 
 def rollout_all(
@@ -138,11 +141,14 @@ def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict
     return params
 
 
-def make_objective(settings: TuneSettings) -> Callable[[optuna.Trial], float]:
+def make_objective(settings: TuneSettings, heartbeat: int = 0) -> Callable[[optuna.Trial], float]:
     """Optuna objective: the mean of ``settings.objective`` over the seeds (and conditions),
-    falls disqualifying."""
+    falls disqualifying. A trial records its worker (``host:pid``) and, if its storage beats
+    (:mod:`~acl_env.tuning.study`), the ``heartbeat`` interval: other workers wait for it."""
 
     def objective(trial: optuna.Trial) -> float:
+        if heartbeat:
+            trial.set_user_attr("heartbeat", heartbeat)
         trial.set_user_attr("worker", f"{socket.gethostname()}:{os.getpid()}")
         params = suggest_params(trial, settings.space)
         envs = settings.make_envs(params)

@@ -143,6 +143,22 @@ def parse_pairs(items: Sequence[str], option: str) -> dict[str, Any]:
         raise UsageError(option, str(exc).removeprefix(f"{option}: ")) from None
 
 
+def finite_number(value: Any, option: str, name: str) -> float:
+    """``value`` as a finite float; anything else (a word, a bool, 1e309, a 400-digit integer)
+    raises :class:`UsageError` naming ``option`` and ``name``."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise UsageError(option, f"{name} must be a number, got {value!r}")
+    try:
+        number = float(value)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        text = str(value)
+        shown = f"{text[:12]}... ({len(text)} digits)" if len(text) > 24 else text
+        raise UsageError(option, f"{name} must be a finite number, got {shown}")
+    return number
+
+
 def parse_condition(items: Sequence[str]) -> dict[str, float | list[float]]:
     """``--condition NAME:VALUE ...`` as ``{name: value}``, names from :data:`CONDITIONS`; a
     value may be a list (``friction:[0.7,1.2]``): the study then plays the grid of them all."""
@@ -151,9 +167,10 @@ def parse_condition(items: Sequence[str]) -> dict[str, float | list[float]]:
         if name not in CONDITIONS:
             raise UsageError("--condition", f"unknown {name!r}; known: {list(CONDITIONS)}")
         values = list(value) if isinstance(value, list | tuple) else [value]
-        if not values or any(isinstance(v, bool) or not isinstance(v, int | float) for v in values):
+        if not values:
             raise UsageError("--condition", f"{name} takes a number or a list, got {value!r}")
+        values = [finite_number(v, "--condition", name) for v in values]
         if len(set(values)) != len(values):
             raise UsageError("--condition", f"{name} repeats a value: {value!r}")
-        condition[name] = [float(v) for v in values] if len(values) > 1 else float(values[0])
+        condition[name] = values if len(values) > 1 else values[0]
     return condition

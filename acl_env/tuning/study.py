@@ -2,12 +2,23 @@
 
 Parallel and resumable as rl_zoo3's ``--optimize --storage``: the study lives in a database
 (SQLite file by default, any SQLAlchemy URL Optuna accepts), ``n_jobs`` worker processes share it,
-and so can other processes or machines pointed at the same URL. ``n_trials`` is the study's total
-(finished trials count), so rerunning the same command resumes an interrupted study.
+and so can other processes or machines pointed at the same URL (PostgreSQL for machines: SQLite
+is for one machine). ``n_trials`` is the study's total (finished trials count), so rerunning the
+same command resumes an interrupted study.
+
+Every running trial records a heartbeat (Optuna's RDB heartbeat) every ``heartbeat`` seconds. A
+trial silent for :data:`GRACE_HEARTBEATS` heartbeats, its worker killed or its machine gone, is
+marked failed by the next worker that looks, and queued again with the same parameters
+(:func:`retry_callback`: ``retried_trial_number`` of the new trial names the failed one). So a
+worker waits, once the study's last trials run elsewhere, until they finish or are retried; the
+study completes as long as one worker lives.
 """
 
 from __future__ import annotations
 
+import datetime
+import importlib.util
+import inspect
 import multiprocessing
 import time
 import warnings
@@ -24,23 +35,63 @@ from acl_env.tuning.space import DEFAULT_PARAMS, UsageError
 from acl_env.tuning.stop import catch_stop_signals, stop_point
 
 FINISHED = (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED)
+DEFAULT_HEARTBEAT = 30  # seconds between a running trial's heartbeats
+GRACE_HEARTBEATS = 4  # heartbeats missed before a running trial counts as its worker's death
+MAX_RETRY = 3  # times a trial whose worker died is run again
 _CREATE_ATTEMPTS = 8
 
 
 def storage_url(storage: str) -> str:
-    """An Optuna storage URL: a plain path becomes an SQLite file URL."""
-    return storage if "://" in storage else f"sqlite:///{storage}"
+    """An Optuna storage URL: a plain path becomes an SQLite file URL, and ``postgresql://``
+    names the PostgreSQL driver installed (psycopg 3, the ``train`` extra's, else psycopg2)."""
+    if "://" not in storage:
+        return f"sqlite:///{storage}"
+    scheme, rest = storage.split("://", 1)
+    if scheme in ("postgresql", "postgres"):
+        found = [m for m in ("psycopg", "psycopg2") if importlib.util.find_spec(m) is not None]
+        return f"postgresql+{(found or ['psycopg'])[0]}://{rest}"
+    return storage
 
 
-def open_storage(storage: str) -> optuna.storages.RDBStorage:
+def sqlite_path(storage: str) -> Path | None:
+    """The file of a SQLite storage; None for another database."""
+    url = storage_url(storage)
+    return Path(url.removeprefix("sqlite:///")) if url.startswith("sqlite:///") else None
+
+
+def retry_callback() -> Callable[[optuna.Study, optuna.trial.FrozenTrial], None]:
+    """Optuna's callback that queues a trial failed by its heartbeat again (same parameters)."""
+    with warnings.catch_warnings():  # experimental since Optuna 2.8
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        # Optuna 4.9 renamed RetryFailedTrialCallback; the old name warns since.
+        retry = getattr(optuna.storages, "RetryHeartbeatStaleTrialCallback", None)
+        return (retry or optuna.storages.RetryFailedTrialCallback)(max_retry=MAX_RETRY)
+
+
+def _heartbeat_kwargs(heartbeat: int) -> dict[str, Any]:
+    """RDBStorage arguments of the heartbeat (Optuna 4.9 renamed its callback argument)."""
+    if not heartbeat:
+        return {}
+    parameters = inspect.signature(optuna.storages.RDBStorage).parameters
+    name = "heartbeat_stale_trial_callback"
+    name = name if name in parameters else "failed_trial_callback"
+    return {
+        "heartbeat_interval": heartbeat,
+        "grace_period": GRACE_HEARTBEATS * heartbeat,
+        name: retry_callback(),
+    }
+
+
+def open_storage(storage: str, heartbeat: int = DEFAULT_HEARTBEAT) -> optuna.storages.RDBStorage:
     """The study database (created if missing); unreadable storage raises :class:`UsageError`.
 
-    The heartbeat marks trials of a killed process as failed, so a rerun redoes them; the SQLite
-    timeout lets several processes wait for each other's writes.
+    The heartbeat (every ``heartbeat`` seconds, 0 for none) marks trials of a killed process as
+    failed and queues them again; the SQLite timeout lets several processes wait for each
+    other's writes.
     """
     url = storage_url(storage)
-    if url.startswith("sqlite:///"):
-        path = Path(url.removeprefix("sqlite:///"))
+    path = sqlite_path(storage)
+    if path is not None:
         if path.is_dir():
             raise UsageError("--storage", f"{path} is a folder, not a database file")
         if not path.parent.exists():
@@ -51,11 +102,8 @@ def open_storage(storage: str) -> optuna.storages.RDBStorage:
                 warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
                 return optuna.storages.RDBStorage(
                     url,
-                    engine_kwargs={"connect_args": {"timeout": 60}}
-                    if url.startswith("sqlite")
-                    else {},
-                    heartbeat_interval=30,
-                    grace_period=120,
+                    engine_kwargs={"connect_args": {"timeout": 60}} if path is not None else {},
+                    **_heartbeat_kwargs(heartbeat),
                 )
         except Exception as exc:  # SQLAlchemy raises many types: all mean "cannot use it"
             if _lost_creation_race(exc) and attempt + 1 < _CREATE_ATTEMPTS:
@@ -75,7 +123,9 @@ def _lost_creation_race(exc: Exception) -> bool:
     """
     text = str(exc)
     return isinstance(exc, sqlalchemy.exc.IntegrityError | sqlalchemy.exc.OperationalError) and (
-        "already exists" in text or "UNIQUE constraint failed: alembic_version" in text
+        "already exists" in text
+        or "UNIQUE constraint failed: alembic_version" in text
+        or "duplicate key value violates unique constraint" in text  # PostgreSQL
     )
 
 
@@ -83,6 +133,37 @@ def _counted(study: optuna.Study) -> int:
     """Trials that count toward ``--n-trials``: finished, or running in some process."""
     states = (*FINISHED, optuna.trial.TrialState.RUNNING)
     return len(study.get_trials(deepcopy=False, states=states))
+
+
+def _finished(study: optuna.Study) -> int:
+    return len(study.get_trials(deepcopy=False, states=FINISHED))
+
+
+def _beating(study: optuna.Study, heartbeat: int) -> bool:
+    """Whether a running trial has a heartbeat, so that it will finish, or fail and be retried:
+    its worker says so (user attribute ``heartbeat``), or it started too recently to have said
+    it yet (within the grace period)."""
+    running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
+    recent = datetime.datetime.now() - datetime.timedelta(seconds=GRACE_HEARTBEATS * heartbeat)
+    return any(
+        t.user_attrs.get("heartbeat") or (t.datetime_start and t.datetime_start > recent)
+        for t in running
+    )
+
+
+def _fail_stale_trials(study: optuna.Study) -> None:
+    """Mark trials whose heartbeat stopped as failed, and queue them again."""
+    with warnings.catch_warnings():  # experimental since Optuna 2.9, still there in 5.x
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        optuna.storages.fail_stale_trials(study)
+
+
+def _wait(seconds: float) -> None:
+    """Sleep, taking a stop request every 0.1 s."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        stop_point()
+        time.sleep(min(0.1, max(0.0, deadline - time.monotonic())))
 
 
 def _sampler(seed: int | None) -> optuna.samplers.TPESampler:
@@ -96,22 +177,35 @@ def run_worker(
     settings: TuneSettings,
     storage: str,
     study_name: str,
-    quota: int,
+    quota: int | None,
     n_trials: int,
     seed: int | None = None,
     callbacks: Sequence[Callable[[optuna.Study, optuna.trial.FrozenTrial], None]] = (),
+    heartbeat: int = DEFAULT_HEARTBEAT,
 ) -> None:
-    """Run up to ``quota`` trials, stopping early once the study holds ``n_trials``."""
+    """Run up to ``quota`` trials (None: no limit) until the study holds ``n_trials`` finished.
+
+    With the heartbeat on, a worker whose study's last trials run elsewhere waits for them: they
+    finish, or their worker died and they are failed and queued again, for this one to run.
+    """
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     study = optuna.load_study(
-        study_name=study_name, storage=open_storage(storage), sampler=_sampler(seed)
+        study_name=study_name, storage=open_storage(storage, heartbeat), sampler=_sampler(seed)
     )
-    objective = make_objective(settings)
-    for _ in range(quota):
+    objective = make_objective(settings, heartbeat)
+    ran = 0
+    while quota is None or ran < quota:
         stop_point()
-        if _counted(study) >= n_trials:
+        _fail_stale_trials(study)
+        if _finished(study) >= n_trials:
             break
+        if _counted(study) >= n_trials:  # the rest run elsewhere
+            if not (heartbeat and _beating(study, heartbeat)):  # none that a heartbeat would fail
+                break
+            _wait(min(heartbeat, 5))
+            continue
         study.optimize(objective, n_trials=1, callbacks=list(callbacks))
+        ran += 1
 
 
 def _worker_process(*args: Any, **kwargs: Any) -> None:
@@ -126,10 +220,10 @@ def _worker_process(*args: Any, **kwargs: Any) -> None:
 
 
 def prepare_study(
-    settings: TuneSettings, storage: str, study_name: str
+    settings: TuneSettings, storage: str, study_name: str, heartbeat: int = DEFAULT_HEARTBEAT
 ) -> tuple[optuna.Study, optuna.storages.RDBStorage]:
     """Create or resume the study; a study run with other settings raises :class:`UsageError`."""
-    rdb = open_storage(storage)
+    rdb = open_storage(storage, heartbeat)
     try:
         study = optuna.create_study(
             study_name=study_name,
@@ -165,6 +259,7 @@ def run_study(
     n_jobs: int = 1,
     seed: int | None = None,
     progress: bool = True,
+    heartbeat: int = DEFAULT_HEARTBEAT,
 ) -> optuna.Study:
     """Run the study until it holds ``n_trials`` finished trials, on ``n_jobs`` processes.
 
@@ -172,10 +267,8 @@ def run_study(
     raises ``KeyboardInterrupt``; the finished trials stay in the study for a rerun to resume
     from.
     """
-    study, _ = prepare_study(settings, storage, study_name)
-    with warnings.catch_warnings():  # experimental since Optuna 2.9, still there in 4.x
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        optuna.storages.fail_stale_trials(study)
+    study, _ = prepare_study(settings, storage, study_name, heartbeat)
+    _fail_stale_trials(study)
     done = _counted(study)
     bar = tqdm(total=n_trials, initial=done, desc=study_name, unit="trial", disable=not progress)
     seed_base = None if seed is None else seed + 1000 * done
@@ -190,10 +283,14 @@ def run_study(
         # waiting trial from SQLite can both run it, and the second fails to record it.
         waiting = len(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.WAITING,)))
         if waiting and done < n_trials:
-            run_worker(settings, storage, study_name, waiting, n_trials, seed_base, [update])
+            run_worker(
+                settings, storage, study_name, waiting, n_trials, seed_base, [update], heartbeat
+            )
         remaining = max(0, n_trials - _counted(study))
-        if remaining and n_jobs == 1:
-            run_worker(settings, storage, study_name, remaining, n_trials, seed_base, [update])
+        if n_jobs == 1:  # also waits for trials running elsewhere (or retries them)
+            run_worker(
+                settings, storage, study_name, None, n_trials, seed_base, [update], heartbeat
+            )
         elif remaining:
             context = multiprocessing.get_context("spawn")
             quotas = [remaining // n_jobs + (i < remaining % n_jobs) for i in range(n_jobs)]
@@ -201,7 +298,10 @@ def run_study(
                 context.Process(
                     target=_worker_process,
                     args=(settings, storage, study_name, quota, n_trials),
-                    kwargs={"seed": None if seed_base is None else seed_base + 1 + i},
+                    kwargs={
+                        "seed": None if seed_base is None else seed_base + 1 + i,
+                        "heartbeat": heartbeat,
+                    },
                 )
                 for i, quota in enumerate(quotas)
                 if quota
@@ -215,8 +315,12 @@ def run_study(
                 bar.update(max(0, finished - bar.n))
                 bar.set_postfix_str(_best_text(study))
             failed = [w.exitcode for w in workers if w.exitcode]
-            if failed:
+            if failed and _finished(study) < n_trials:
                 raise RuntimeError(f"tuning workers exited with status {failed}")
+            # Trials still running elsewhere (another machine): wait for them, or retry them.
+            run_worker(
+                settings, storage, study_name, None, n_trials, seed_base, [update], heartbeat
+            )
     except KeyboardInterrupt:
         for worker in workers:
             worker.terminate()  # SIGTERM: it stops at its next safe point, its trial failed

@@ -17,6 +17,7 @@ from typing import Any
 
 from acl_env import io
 from acl_env.training import cli
+from acl_env.training.cli import add_trust_pickles
 
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 RUNS = Path("runs")  # where a script writes what it is not told where to write (ignored by git)
@@ -105,18 +106,6 @@ def policy_parser(doc: str | None, episodes: int) -> cli.ArgumentParser:
     parser.add_argument("--policy", type=cli.existing_dir, required=True, help="policy folder")
     add_trust_pickles(parser)
     return parser
-
-
-def add_trust_pickles(parser: argparse.ArgumentParser) -> None:
-    """``--trust-pickles``: a training run folder's ``model.zip`` and ``vecnormalize.pkl`` are
-    pickles, which can run code when loaded; a script loads them only when told (pretrained
-    numpy folders need no flag)."""
-    parser.add_argument(
-        "--trust-pickles",
-        action="store_true",
-        help="load model.zip/vecnormalize.pkl of an SB3 run folder: they can run code; only for "
-        "folders you made or trust (pretrained numpy folders need no flag)",
-    )
 
 
 def parse_policy_args(

@@ -28,6 +28,7 @@ from typing import Any
 
 from acl_env import tuned_gaits
 from acl_env.io import check_writable_folder
+from acl_env.training import cli
 from acl_env.tuning.space import UsageError
 
 SEED_RANGE = (0, 2**31 - 1)
@@ -36,21 +37,9 @@ OUTPUT_SUFFIXES = (".json", ".yml", ".yaml")
 
 
 def int_in(low: int, high: int) -> Callable[[str], int]:
-    """An argparse type: a decimal integer in ``[low, high]`` (a 400-digit one is refused)."""
-
-    def parse(text: str) -> int:
-        expected = f"expected an integer in [{low}, {high}]"
-        digits = text.strip().lstrip("+-")
-        if not digits.isdigit() or len(digits) > 20:
-            shown = f"{text[:12]!r}... ({len(text)} characters)" if len(text) > 24 else repr(text)
-            raise argparse.ArgumentTypeError(f"{expected}, got {shown}")
-        value = int(text)
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"{expected}, got {value}")
-        return value
-
-    parse.__name__ = f"int_in_{low}_{high}"
-    return parse
+    """An argparse type: an integer in ``[low, high]`` (:func:`acl_env.training.cli.int_at_least`;
+    a 400-digit one is refused, not converted)."""
+    return cli.int_at_least(low, high)
 
 
 def finite_float(text: str) -> float:

@@ -56,7 +56,10 @@ def atomic_write(path: str | Path, data: bytes | str) -> None:
 
 
 def check_output(
-    path: str | Path, suffixes: Iterable[str] = (), fields: Mapping[str, Any] | None = None
+    path: str | Path,
+    suffixes: Iterable[str] = (),
+    fields: Mapping[str, Any] | None = None,
+    create_folder: bool = False,
 ) -> Path:
     """``path`` as a file to write later, checked now (nothing is left behind); ``ValueError``
     saying what is wrong. With ``fields``, ``path`` is a template (``run_{seed}.json``) that must
@@ -66,6 +69,8 @@ def check_output(
     bits say nothing to root, nor of ``/proc``); the path must not be a folder or another
     non-file; its suffix must be one of ``suffixes`` (any case) when given. A symlink at the path
     is fine: :func:`atomic_write` replaces the link, never writes through it out of its folder.
+    With ``create_folder``, the folder may be missing (the caller makes it): see
+    :func:`check_writable_folder`.
     """
     text = str(path)
     if fields is not None:
@@ -84,22 +89,31 @@ def check_output(
     if path.exists() and not path.is_file():
         raise ValueError(f"{text!r} exists and is not a regular file")
     try:
-        check_writable_folder(path.parent)
+        check_writable_folder(path.parent, create=create_folder)
     except ValueError as error:
         raise ValueError(f"{error}, so {text!r} cannot be written") from None
     return path
 
 
-def check_writable_folder(folder: str | Path, what: str = "the folder") -> Path:
+def check_writable_folder(
+    folder: str | Path, what: str = "the folder", create: bool = False
+) -> Path:
     """``folder`` exists and a file can be created in it (probed: created and removed at once);
-    ``ValueError`` naming ``what`` otherwise."""
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"{what} {str(folder)!r} does not exist")
+    ``ValueError`` naming ``what`` otherwise. With ``create``, a folder the caller will make
+    (with its parents) may be missing: its nearest existing ancestor is probed instead."""
+    folder = probed = Path(folder)
+    if create:
+        while not probed.exists() and probed != probed.parent:
+            if probed.is_symlink():
+                raise ValueError(f"{what} {str(probed)!r} is a broken symbolic link")
+            probed = probed.parent
+    if not probed.is_dir():
+        missing = "is not a folder" if probed.exists() else "does not exist"
+        raise ValueError(f"{what} {str(probed)!r} {missing}")
     try:
-        fd, probe = tempfile.mkstemp(prefix=".write-probe.", dir=folder)
+        fd, probe = tempfile.mkstemp(prefix=".write-probe.", dir=probed)
     except OSError as error:
-        raise ValueError(f"{what} {str(folder)!r} is not writable ({error.strerror})") from None
+        raise ValueError(f"{what} {str(probed)!r} is not writable ({error.strerror})") from None
     os.close(fd)
     os.unlink(probe)
     return folder

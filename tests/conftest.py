@@ -4,6 +4,7 @@ and torch's thread count restored after every test."""
 import os
 import shutil
 import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -45,4 +46,19 @@ def clean_source(tmp_path_factory: pytest.TempPathFactory) -> Path:
         if source.is_file():
             (target / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(source, target / name)
+    return target
+
+
+@pytest.fixture(scope="session")
+def installed_wheel(clean_source: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The project built as a wheel from :func:`clean_source` and installed, without its
+    dependencies, into a folder of its own (returned): put it on PYTHONPATH to run the package
+    as a user's non-editable install has it."""
+    wheel_dir = tmp_path_factory.mktemp("wheel")
+    target = tmp_path_factory.mktemp("site")
+    build = ["wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(wheel_dir)]
+    subprocess.run([sys.executable, "-m", "pip", *build, str(clean_source)], check=True)
+    (wheel,) = wheel_dir.glob("acl_env-*.whl")
+    install = ["install", "--no-deps", "-q", "-t", str(target), str(wheel)]
+    subprocess.run([sys.executable, "-m", "pip", *install], check=True)
     return target

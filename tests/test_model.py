@@ -27,8 +27,6 @@ from acl_env.constants import (
 from acl_env.gait.kinematics import forward_kinematics
 from acl_env.model import build_model
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 @pytest.mark.parametrize("n_joints", [3, 8, 20])
 def test_chain_structure(n_joints: int) -> None:
@@ -81,24 +79,9 @@ def test_chain_matches_numpy_forward_kinematics() -> None:
 
 
 @pytest.mark.slow
-def test_wheel_ships_the_assets(tmp_path: Path, clean_source: Path) -> None:
+def test_wheel_ships_the_assets(tmp_path: Path, installed_wheel: Path) -> None:
     """A non-editable install (the wheel) finds the MJCF templates inside the package."""
-    wheel_dir, target = tmp_path / "wheel", tmp_path / "site"
-    build = [
-        "wheel",
-        "--no-deps",
-        "--no-build-isolation",
-        "-q",
-        "-w",
-        str(wheel_dir),
-        str(clean_source),
-    ]
-    subprocess.run([sys.executable, "-m", "pip", *build], check=True)
-    (wheel,) = wheel_dir.glob("acl_env-*.whl")
-    subprocess.run(
-        [sys.executable, "-m", "pip", "install", "--no-deps", "-q", "-t", target, wheel],
-        check=True,
-    )
+    target = installed_wheel
     probe = (
         "import acl_env.model as m; "
         "print(m.__file__); print(m.assets_dir()); print(m.build_model(n_joints=5).nbody)"

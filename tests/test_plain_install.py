@@ -11,7 +11,6 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
 # Imported first by the interpreter below (sitecustomize): the train extra's packages fail to
 # import, as on a machine where they were never installed.
 BLOCKER = """
@@ -28,22 +27,9 @@ sys.meta_path.insert(0, Blocker())
 
 @pytest.mark.slow
 def test_wheel_without_torch_evaluates_the_shipped_policy(
-    tmp_path: Path, clean_source: Path
+    tmp_path: Path, installed_wheel: Path
 ) -> None:
-    wheel_dir, target, blocker = tmp_path / "wheel", tmp_path / "site", tmp_path / "blocker"
-    build = [
-        "wheel",
-        "--no-deps",
-        "--no-build-isolation",
-        "-q",
-        "-w",
-        str(wheel_dir),
-        str(clean_source),
-    ]
-    subprocess.run([sys.executable, "-m", "pip", *build], check=True)
-    (wheel,) = wheel_dir.glob("acl_env-*.whl")
-    install = ["install", "--no-deps", "-q", "-t", str(target), str(wheel)]
-    subprocess.run([sys.executable, "-m", "pip", *install], check=True)
+    target, blocker = installed_wheel, tmp_path / "blocker"
     blocker.mkdir()
     (blocker / "sitecustomize.py").write_text(BLOCKER)
     work = tmp_path / "elsewhere"

@@ -91,19 +91,26 @@ def check_seed(seed: object) -> int | None:
 
 def check_action(action: object, shape: tuple[int, ...]) -> np.ndarray:
     """``action`` as a float64 array of ``shape``, every entry finite (not yet clipped)."""
-    expected = f"an array of real numbers of shape {shape}"
     try:
         array = np.asarray(action)
     except (TypeError, ValueError):  # a ragged list, an object NumPy cannot make an array of
-        raise TypeError(f"action must be {expected}, got {shown(action)}") from None
+        raise TypeError(f"action must be {_real_array(shape)}, got {shown(action)}") from None
     if array.dtype.kind not in "iuf":
-        raise TypeError(f"action must be {expected}, got dtype {array.dtype}: {shown(action)}")
+        raise TypeError(
+            f"action must be {_real_array(shape)}, got dtype {array.dtype}: {shown(action)}"
+        )
     if array.shape != shape:
         raise ValueError(f"action must have shape {shape}, got {array.shape}")
     array = np.asarray(array, dtype=np.float64)
     if not np.isfinite(array).all():
         raise ValueError(f"action must be finite, got {array}")
     return array
+
+
+def _real_array(shape: tuple[int, ...]) -> str:
+    """What an action must be, for the error messages (built only when one is raised: ``step``
+    checks every action)."""
+    return f"an array of real numbers of shape {shape}"
 
 
 class LifecycleMixin:

@@ -99,14 +99,10 @@ def output_folder(text: str) -> Path:
     """An argparse type: a folder to write into later, made (with its parents) if missing: it is
     not a file, and its nearest existing folder takes a new file (probed, nothing left)."""
     path = Path(text)
-    existing = next((p for p in (path, *path.parents) if p.exists() or p.is_symlink()), Path("."))
-    if not existing.is_dir():
-        raise argparse.ArgumentTypeError(f"{str(existing)!r} (in {text!r}) is not a folder")
     try:
-        io.check_writable_folder(existing, "the folder")
+        return io.check_writable_folder(path, "the folder", create=True)
     except ValueError as error:
         raise argparse.ArgumentTypeError(f"{error}, so {text!r} cannot be written") from None
-    return path
 
 
 def _out_of_range(value: Any) -> Any:

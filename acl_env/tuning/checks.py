@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from acl_env import tuned_gaits
-from acl_env.io import check_writable_folder
+from acl_env.io import check_output, check_writable_folder
 from acl_env.training import cli
 from acl_env.tuning.space import UsageError
 
@@ -53,31 +53,20 @@ def finite_float(text: str) -> float:
     return value
 
 
-def _probe_folder(path: Path, option: str) -> None:
-    """Refuse ``path`` unless a file can be created beside it (its folder, or the nearest folder
-    above that exists, for one the tuner will create); the probe file is removed at once."""
-    folder = path.parent
-    while not folder.exists() and folder != folder.parent:
-        if folder.is_symlink():  # a dangling link
-            raise UsageError(option, f"{folder} is a broken symbolic link")
-        folder = folder.parent
-    if not folder.is_dir():
-        raise UsageError(option, f"cannot write {path}: {folder} is not a folder")
+def _checked_output(option: str, text: str, suffixes: tuple[str, ...], **fields: str) -> Path:
+    """:func:`acl_env.io.check_output` for a file the tuner writes (its folder, such as the
+    default ``runs/``, is made if missing), refused as a bad ``option``."""
+    if not text:
+        raise UsageError(option, f"expected a file path, got {text!r}")
     try:
-        check_writable_folder(folder, f"cannot write {path}:")
+        return check_output(text, suffixes, fields or None, create_folder=True)
     except ValueError as error:
         raise UsageError(option, str(error)) from None
 
 
-def check_output(text: str) -> Path:
+def check_output_file(text: str) -> Path:
     """``--output``: a tuned-gaits file that can be (re)written: see the module docstring."""
-    path = Path(text)
-    if not text or path.is_dir():
-        raise UsageError("--output", f"expected a file path, got {text!r}")
-    if path.suffix.lower() not in OUTPUT_SUFFIXES:
-        suffixes = " or ".join(OUTPUT_SUFFIXES)
-        raise UsageError("--output", f"expected a {suffixes} file, got {text!r}")
-    _probe_folder(path, "--output")
+    path = _checked_output("--output", text, OUTPUT_SUFFIXES)
     if path.is_file():  # its other entries are kept: it must be a tuned-gaits file
         try:
             tuned_gaits.read(path)
@@ -87,26 +76,14 @@ def check_output(text: str) -> Path:
 
 
 def check_plot(template: str, key: str) -> Path | None:
-    """``--plot``: the figure's path with ``{key}`` filled in (None for ``''``: no figure)."""
+    """``--plot``: the figure's path with ``{key}`` (its only field) filled in, in a format
+    matplotlib writes (None for ``''``: no figure)."""
     if not template:
         return None
-    try:
-        text = template.format(key=key)
-    except (IndexError, KeyError, ValueError, AttributeError, TypeError) as error:
-        raise UsageError(
-            "--plot", f"{template!r} is not a path with {{key}} as its only field ({error!r})"
-        ) from None
-    path = Path(text)
-    if path.is_dir():
-        raise UsageError("--plot", f"expected a file path, got the folder {text!r}")
     from matplotlib.backend_bases import FigureCanvasBase
 
-    formats = FigureCanvasBase.get_supported_filetypes()
-    if path.suffix.lstrip(".").lower() not in formats:
-        known = ", ".join(sorted(formats))
-        raise UsageError("--plot", f"expected a file ending in one of {known}, got {text!r}")
-    _probe_folder(path, "--plot")
-    return path
+    formats = tuple(f".{name}" for name in FigureCanvasBase.get_supported_filetypes())
+    return _checked_output("--plot", template, formats, key=key)
 
 
 def check_storage(storage: str) -> None:
@@ -120,7 +97,10 @@ def check_storage(storage: str) -> None:
         if path.is_dir():
             raise UsageError("--storage", f"{path} is a folder, not a database file")
         if not path.exists():
-            _probe_folder(path, "--storage")
+            try:
+                check_writable_folder(path.parent, f"cannot write {path}:", create=True)
+            except ValueError as error:
+                raise UsageError("--storage", str(error)) from None
         return
     import sqlalchemy
 

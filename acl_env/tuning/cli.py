@@ -37,7 +37,7 @@ from acl_env.training.config import load_hyperparams
 from acl_env.tuning.checks import (
     SAMPLER_SEED_RANGE,
     SEED_RANGE,
-    check_output,
+    check_output_file,
     check_plot,
     check_recipe,
     check_storage,
@@ -270,7 +270,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     study_name = args.study_name or key
     try:
         settings = settings_from_args(args)
-        output = check_output(args.output)
+        output = check_output_file(args.output)
         plot = check_plot(args.plot, key)
         check_storage(args.storage)
         policies = _policy_points(args.policy_point)

@@ -150,19 +150,22 @@ def main(argv: list[str] | None = None) -> list[dict]:
     # alone first (at the env's defaults), then each cell, whose gaits' clipped shares
     # (controller name -> share, one mapping per cell) are read there.
     clipped: list[dict[str, float]] = []
+    built: list[tuple[list, list[str]]] = []  # each cell's controllers and notes, checked here
     for flag, label, overrides in [
         ("--env-kwargs", "", {}),
         *(("--pole-radii", f"{label}: ", overrides) for label, overrides in conditions),
     ]:
         shares = {}
-        for controller in build_controllers(
+        cell = build_controllers(
             folder,
             {**shared, **overrides},
             None,
             args.tuned_gaits,
             args.tuned_key,
             args.trust_pickles,
-        )[0]:
+        )
+        built.append(cell)
+        for controller in cell[0]:
             try:
                 env = check_env_kwargs(controller.env_id, controller.env_kwargs)
             except ValueError as error:
@@ -172,19 +175,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
                 shares[controller.name] = gait.saturation.sample_fraction
             env.close()
         clipped.append(shares)
-    clipped = clipped[1:]  # the cells only
+    clipped, built = clipped[1:], built[1:]  # the cells only
     seeds = list(range(args.episodes))
     rows = []
     pool = make_pool(args.workers)  # one set of workers for every cell
-    for (label, overrides), shares in zip(conditions, clipped, strict=True):
-        controllers, notes = build_controllers(
-            folder,
-            {**shared, **overrides},
-            None,
-            args.tuned_gaits,
-            args.tuned_key,
-            args.trust_pickles,
-        )
+    for (label, overrides), shares, (controllers, notes) in zip(
+        conditions, clipped, built, strict=True
+    ):
         results = evaluate(controllers, seeds, progress=False, pool=pool)
         row: dict = {"condition": label, "overrides": overrides}
         for name, episodes in results.items():

@@ -93,9 +93,11 @@ def postgres_url() -> Iterator[str]:
 
 
 def worker(url: str, output: Path) -> subprocess.Popen[str]:
-    """``python -m acl_env.tuning`` on the shared study: 1 s heartbeats, one 220-step episode a
-    trial (half a second or more), no clipping limit (every trial plays)."""
-    args = ["--storage", url, "--heartbeat", "1", "--n-trials", str(N_TRIALS)]
+    """``python -m acl_env.tuning`` on the shared study: 2 s heartbeats (a trial silent for 8 s
+    is its worker's death; with 1 s heartbeats one full-suite run on the loaded 2-core machine
+    failed, which a live worker's lagging heartbeat thread would explain), one 220-step episode
+    a trial (half a second or more), no clipping limit (every trial plays)."""
+    args = ["--storage", url, "--heartbeat", "2", "--n-trials", str(N_TRIALS)]
     args += ["--seeds", "0", "--cycles", "1", "--max-clipped", "1", "--no-progress-bar"]
     args += ["--validate-seeds", "0", "--plot", "", "--output", str(output)]
     return subprocess.Popen(

@@ -31,7 +31,7 @@ import sqlalchemy
 from acl_env.tuning.study import FINISHED, open_storage, storage_url
 
 ROOT = Path(__file__).resolve().parents[1]
-N_TRIALS = 10
+N_TRIALS = 16  # two workers, a trial every half second each: room to catch one mid-trial
 TrialState = optuna.trial.TrialState
 
 
@@ -127,6 +127,16 @@ def running_trial_of(url: str, pid: int) -> optuna.trial.FrozenTrial | None:
     return None
 
 
+def frozen_in_a_trial(url: str, process: subprocess.Popen[str]) -> Any:
+    """Stop ``process``; its trial running then (it will stay so), or None after resuming it."""
+    process.send_signal(signal.SIGSTOP)
+    time.sleep(0.3)  # a commit the process had sent lands before we look
+    trial = running_trial_of(url, process.pid)
+    if trial is None:
+        process.send_signal(signal.SIGCONT)
+    return trial
+
+
 def wait_for(condition: Callable[[], Any], what: str, timeout: float = 40.0) -> Any:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
@@ -149,15 +159,11 @@ def test_a_worker_killed_mid_trial_is_retried_and_the_study_completes(
         wait_for(lambda: any(t.state in FINISHED for t in trials(postgres_url)), "a trial")
         second = worker(postgres_url, tmp_path / "second.json")
         wait_for(lambda: running_trial_of(postgres_url, second.pid), "the second worker")
-        # Freeze the first worker inside a trial (seen running before and after the stop), then
-        # kill it: its trial stays RUNNING, its heartbeat silent.
-        while True:
-            killed = wait_for(lambda: running_trial_of(postgres_url, first.pid), "a trial")
-            first.send_signal(signal.SIGSTOP)
-            now = running_trial_of(postgres_url, first.pid)
-            if now is not None and now.number == killed.number:
-                break
-            first.send_signal(signal.SIGCONT)
+        # Freeze the first worker inside a trial, then kill it: its trial stays RUNNING, its
+        # heartbeat silent. Stop it first and then look (after any write it had in flight has
+        # landed), so that what is RUNNING then stays so: looking first and stopping after raced
+        # the trials, which end every half second, when the queries ran slowly on a loaded machine.
+        killed = wait_for(lambda: frozen_in_a_trial(postgres_url, first), "a frozen trial")
         kept = {t.number: t.state for t in trials(postgres_url) if t.state in FINISHED}
         first.kill()
         first.wait(timeout=30)

@@ -65,5 +65,10 @@ def joint_name(j: int) -> str:
 
 
 def actuator_name(j: int) -> str:
-    """Position servo (the series spring) of joint ``j``."""
+    """Actuator of joint ``j``: the series elastic actuator or the position servo."""
     return f"servo_{j}"
+
+
+def sensor_name(quantity: str, j: int) -> str:
+    """SEA joint sensor: ``quantity`` "angle", "velocity" or "torque" of joint ``j``."""
+    return f"{quantity}_{j}"

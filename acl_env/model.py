@@ -15,6 +15,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from acl_env.actuators import ActuatorConfig, configure_spec
 from acl_env.constants import (
     CONTACT_TIMECONST,
     DEFAULT_FRICTION,
@@ -58,6 +59,7 @@ __all__ = [
     "build_spec",
     "joint_name",
     "link_name",
+    "sensor_indices",
     "shell_name",
     "snake_geom_ids",
 ]
@@ -75,8 +77,10 @@ def build_spec(
     kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
     timestep: float = PHYSICS_TIMESTEP,
+    actuators: ActuatorConfig | None = None,
 ) -> mujoco.MjSpec:
-    """The scene with an ``n_joints`` SEA snake, as an editable spec."""
+    """The scene with an ``n_joints`` SEA snake, as an editable spec; ``actuators`` (default: the
+    ideal servo of stiffness ``kp``) picks the joint actuators (:mod:`acl_env.actuators`)."""
     with resources.as_file(assets_dir() / SCENE_FILE) as scene_path:
         spec = mujoco.MjSpec.from_file(str(scene_path))
     spec.compiler.degree = False  # degrees by default (docs/mujoco_notes.md#angles-in-degrees)
@@ -120,6 +124,7 @@ def build_spec(
     # straight along x from the origin: shift the scene's offset by that straight-body COM.
     camera = spec.camera(TRACK_CAMERA)
     camera.pos = [camera.pos[0] + half * (n_joints + 1), camera.pos[1], camera.pos[2]]
+    configure_spec(spec, actuators or ActuatorConfig(), n_joints)
     return spec
 
 
@@ -130,9 +135,17 @@ def build_model(
     kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
     timestep: float = PHYSICS_TIMESTEP,
+    actuators: ActuatorConfig | None = None,
 ) -> mujoco.MjModel:
     """Compile the scene with an ``n_joints`` SEA snake (see :func:`build_spec`)."""
-    return build_spec(n_joints, pole_radius, friction, kp, module_length, timestep).compile()
+    spec = build_spec(n_joints, pole_radius, friction, kp, module_length, timestep, actuators)
+    return spec.compile()
+
+
+def sensor_indices(model: mujoco.MjModel, *names: str) -> np.ndarray:
+    """Indices into ``sensordata`` of the named sensors' readings, in order."""
+    spans = [(int(model.sensor(name).adr[0]), int(model.sensor(name).dim[0])) for name in names]
+    return np.concatenate([np.arange(start, start + dim) for start, dim in spans])
 
 
 def snake_geom_ids(model: mujoco.MjModel, n_joints: int) -> np.ndarray:

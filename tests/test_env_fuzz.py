@@ -64,6 +64,13 @@ REALS: dict[str, tuple[list[float], bool]] = {
     "timestep": ([0.0, 0.0001, 0.006, 0.0021, -0.002, 1e300], False),
     "roll_limit": ([0.0, -1.0, 3600.5, 1e300], True),
 }
+# The SEA's real arguments, given with actuator_model="sea" (on the servo any value is refused).
+SEA_REALS: dict[str, tuple[list[float], bool]] = {
+    "spring_stiffness": ([0.0, 0.5, -20.0, 200.5, 1e300], True),
+    "motor_speed_limit": ([0.0, 0.05, -2.2, 100.5, 1e300], True),
+    "control_latency": ([-0.01, 0.21, 1e300], True),
+    "sensor_latency": ([-0.01, 0.21, 1e300], True),
+}
 # Integer arguments: (values out of range, None allowed).
 INTS: dict[str, tuple[list[Any], bool]] = {
     "n_joints": ([2, 101, 0, -5, 20.0, 20.5], False),
@@ -82,6 +89,10 @@ def numeric_cases() -> Iterator[tuple[dict[str, Any], str]]:
             values.append(None)
         for value in values:
             yield {name: value}, name
+    for name, (bad, _) in SEA_REALS.items():
+        for value in [*NOT_NUMBERS, *NON_FINITE, *HUGE_INTS, *bad]:
+            yield {name: value, "actuator_model": "sea"}, name
+        yield {name: 1.0}, name  # an SEA option on the servo
 
 
 def mapping_garbage(name: str, keys: list[str]) -> Iterator[tuple[dict[str, Any], str]]:
@@ -124,6 +135,17 @@ def randomization_cases() -> Iterator[tuple[dict[str, Any], str]]:
     yield {name: {"pole_radius": (0.001, 0.07)}}, name  # below the pole_radius argument's range
     for noise in [-0.01, 1.5, math.nan, HUGE, "0.01", None, (0.0, 0.1)]:
         yield {name: {"sensor_noise": noise}}, name
+    sea = {"actuator_model": "sea"}
+    for key in ["spring_stiffness", "motor_speed_limit", "control_latency"]:
+        for pair in bad_pairs:
+            if key == "control_latency" and isinstance(pair, tuple) and pair == (0.0, 0.07):
+                continue  # no latency is a latency
+            yield {name: {key: pair}, **sea}, name
+        yield {name: {key: (0.01, 0.02)}}, name  # an SEA parameter on the servo
+    sea_above = {"spring_stiffness": 250.0, "motor_speed_limit": 101.0, "control_latency": 0.25}
+    for key, high in sea_above.items():
+        yield {name: {key: (0.01, high)}, **sea}, name
+    yield {name: {"kp": (15.0, 25.0)}, **sea}, name  # the servo's gain on the SEA
 
 
 def sequence_cases() -> Iterator[tuple[dict[str, Any], str]]:
@@ -172,6 +194,7 @@ def choice_cases() -> Iterator[tuple[dict[str, Any], str]]:
         "camera_name": ["nope", "", 0, None, True, ["track"], b"track", HUGER],
         "privileged_obs": [1, 0, "false", "true", None, 1.0, [True], HUGE],
         "tuned_gait": ["nope", "", "ACL", 1, True, 1.5, ["acl"], {"acl": 1}, HUGER],
+        "actuator_model": ["SEA", "", "servo ", None, 1, True, ["sea"], b"sea", HUGER],
     }
     for name, values in choices.items():
         for value in values:
@@ -229,6 +252,12 @@ VALID_EXTREMES: list[dict[str, Any]] = [
     {"gait_modulation": {"squeeze": 0.02, "amp_pitch": 0.02, "amp_radial": 0.02}},
     {"width": 1, "height": 4096, "camera_name": "side", "render_mode": "rgb_array"},
     {"tuned_gait": "acl_noroll", "squeeze_slope": 1.0, "cycles_per_episode": 8},
+    {"actuator_model": "sea", "spring_stiffness": 1.0, "motor_speed_limit": 0.1},
+    {"actuator_model": "sea", "spring_stiffness": 200.0, "motor_speed_limit": 100.0},
+    {"actuator_model": "sea", "control_latency": 0.2, "sensor_latency": 0.2},
+    {"actuator_model": "sea", "control_latency": 0.0, "sensor_latency": 0.0},
+    {"actuator_model": "sea", "domain_randomization": {"control_latency": (0.0, 0.2)}},
+    {"actuator_model": "sea", "domain_randomization": True, "timestep": 0.005},
 ]
 
 

@@ -13,7 +13,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from acl_env.constants import CONTROL_DT
+from acl_env import actuators
+from acl_env.constants import CONTROL_DT, DEFAULT_KP
 from acl_env.envs import ACLClimbEnv
 from acl_env.envs.acl_climb import (
     CYCLES_PER_EPISODE_RANGE,
@@ -31,7 +32,12 @@ from acl_env.envs.acl_climb import (
     TIMESTEP_RANGE,
 )
 from acl_env.envs.modulation import MODULATED_PARAMETERS, SECTIONS_RANGE
-from acl_env.envs.randomize import DEFAULT_RANDOMIZATION, RANGE_BOUNDS, SENSOR_NOISE_MAX
+from acl_env.envs.randomize import (
+    DEFAULT_RANDOMIZATION,
+    RANDOMIZATION_KEYS,
+    RANGE_BOUNDS,
+    SENSOR_NOISE_MAX,
+)
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
 from acl_env.gait.gaits import SEA_MODULE_DIAMETER, SEA_MODULE_RADIUS
 from acl_env.model import build_model
@@ -234,11 +240,26 @@ RANDOMIZATION_LIMITS = {
 }
 
 
+SEA_RANGES = {
+    "spring_stiffness": actuators.SPRING_STIFFNESS_RANGE,
+    "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT_RANGE,
+    "control_latency": actuators.LATENCY_RANGE,
+    "sensor_latency": actuators.LATENCY_RANGE,
+}
+
+
 @st.composite
 def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
     """Arguments inside the documented ranges; episodes kept tiny (few keyframes per cycle)."""
     steps = draw(st.integers(STEPS_PER_CYCLE_RANGE[0], 12))
     base_gait = draw(st.sampled_from(["acl", "rolling_helix", "none"]))
+    sea = draw(st.booleans())
+    # The keys each actuator model randomises: the servo's kp, or the SEA's parameters.
+    dr_limits = {
+        k: v
+        for k, v in RANDOMIZATION_LIMITS.items()
+        if k in RANDOMIZATION_KEYS["sea" if sea else "servo"]
+    }
     gait_options: dict[str, st.SearchStrategy[Any]] = {"pitch": within((SEA_MODULE_DIAMETER, 0.3))}
     if base_gait != "rolling_helix":  # the ACL gait's (it also places "none"'s start pose)
         gait_options["n_samples"] = st.integers(GAIT_SAMPLES_RANGE[0], 400)
@@ -249,7 +270,7 @@ def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
         "cycles_per_episode": CYCLES_PER_EPISODE_RANGE[0],
         "pole_radius": draw(within(POLE_RADIUS_RANGE)),
         "friction": draw(within((0.0, FRICTION_MAX), open_low=True)),
-        "kp": draw(within((0.0, KP_MAX), open_low=True)),
+        "kp": DEFAULT_KP if sea else draw(within((0.0, KP_MAX), open_low=True)),
         "residual_scale": draw(st.none() | within((0.0, RESIDUAL_SCALE_MAX), open_low=True)),
         "privileged_obs": draw(st.booleans()),
         "start_phase_range": draw(within((0.0, 1.0))),
@@ -270,7 +291,7 @@ def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
             | st.fixed_dictionaries(
                 {},
                 optional={
-                    **{k: dr_range(k, v) for k, v in RANDOMIZATION_LIMITS.items()},
+                    **{k: dr_range(k, v) for k, v in dr_limits.items()},
                     "sensor_noise": within((0.0, SENSOR_NOISE_MAX)),
                 },
             )
@@ -282,6 +303,10 @@ def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
         # Documented as 0.1 s / (5 k) within the range: 5 contact samples of whole steps.
         "timestep": draw(st.integers(4, 40).map(lambda k: CONTROL_DT / (SLIP_SAMPLES * k))),
     }
+    if sea:
+        kwargs["actuator_model"] = "sea"
+        for name, bounds in SEA_RANGES.items():
+            kwargs[name] = draw(st.none() | within(bounds))
     modulated = {"acl": MODULATED_PARAMETERS, "rolling_helix": {"squeeze": 0.02}}
     if base_gait in modulated:
         options = {k: within((0.0, v), open_low=True) for k, v in modulated[base_gait].items()}

@@ -13,6 +13,7 @@ from gymnasium import spaces
 from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
+from acl_env.actuators import JointReadout, start_motors
 from acl_env.constants import (
     DEFAULT_FRICTION,
     DEFAULT_KP,
@@ -25,7 +26,7 @@ from acl_env.constants import (
     SCENE_FILE,
     TRACK_CAMERA,
 )
-from acl_env.envs import arguments, termination
+from acl_env.envs import arguments, modulation, termination
 from acl_env.envs.arguments import GAITS, check_arguments, check_camera, gait_kwargs_at, squeeze_at
 from acl_env.envs.contacts import SLIP_SAMPLES, ContactSampler
 from acl_env.envs.lifecycle import LifecycleMixin
@@ -42,7 +43,7 @@ from acl_env.envs.randomize import (
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, StepMeasures, reward_terms
 from acl_env.envs.start import placed_qpos, ramp_in
 from acl_env.gait import Gait
-from acl_env.model import assets_dir, build_model
+from acl_env.model import assets_dir, build_model, sensor_indices
 
 
 @lru_cache(maxsize=16)
@@ -59,8 +60,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     ## Description
     The CMU SEA snake (module 0.0639 m long, 0.0508 m wide, 0.205 kg, +-90 deg joints, 7 N m)
     wraps a fixed pole of radius ``pole_radius``. Each 0.1 s step plays one keyframe of the base
-    gait (Chen & Roth's ACL, Eq. 1-5, or the rolling helix) through position servos standing in
-    for the series springs; a zero action plays the paper's open loop (220 keyframes, 22 s).
+    gait (Chen & Roth's ACL, Eq. 1-5, or the rolling helix) through the joint actuators
+    (``actuator_model``: "sea", series elastic actuators, or "servo", ideal position servos;
+    :mod:`acl_env.actuators`); a zero action plays the paper's open loop (220 keyframes, 22 s).
 
     ## Action Space
     ``Box(-1, 1, (n_joints,), float32)``: joint ``j``'s target (rad) is ``clip(gait(phase)[j] +
@@ -83,7 +85,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     |---|---|---|
     | 0 .. n-1 | joint angles | rad |
     | n .. 2n-1 | joint velocities | rad/s |
-    | 2n .. 3n-1 | joint torques (servo output: kp x deflection + damping) | N m |
+    | 2n .. 3n-1 | joint torques (SEA: spring torque as encoded; servo: its output) | N m |
     | 3n .. 3n+3 | head IMU orientation, quaternion (w, x, y, z) | - |
     | 3n+4 .. 3n+6 | head IMU angular velocity | rad/s |
     | 3n+7, 3n+8 | cos, sin of the gait phase of the next step | - |
@@ -94,11 +96,10 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     The sum of ``reward_<term> = +-w_<term> * <term>``, weights ``reward_weights``: ``climb`` (+),
     the rise of the snake's centre of mass (m); ``slip`` (-), the mean sliding distance of the
     snake-pole contacts (m; MuJoCo's tangential ``efc_vel``, sampled 5 times per step); ``roll``
-    (-), the growth of the range each module's roll about its own axis relative to the pole
-    surface (measured on MuJoCo's link frames, not read from the command) has swept since the
-    reset, mean over modules (rad); ``energy`` (-), the actuator work sum abs(tau qdot) dt (J:
-    motors that do not regenerate); ``action_rate`` (-), the action's squared change since the
-    last step (from zero at the first), summed, divided by ``n_joints``.
+    (-), the growth of the range each module's roll about its axis relative to the pole surface
+    (link frames) has swept since the reset, mean over modules (rad); ``energy`` (-), the work
+    sum abs(tau omega) dt (J; motors do not regenerate; omega: the SEA motor's speed, the servo's
+    joint's); ``action_rate`` (-), the action's squared change since the last step, over n.
 
     ## Starting State
     Keyframe ``k0``, drawn from the first ``start_phase_range`` of a cycle, posed with its helix
@@ -118,21 +119,18 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     ``roll``, ``energy`` and ``action_rate``, ``com_height`` (m), ``phase`` (cycles),
     ``phase_rate`` (keyframes advanced: 1 without ``phase_rate_range``), ``fell``, ``unstable``,
     ``rolled``, ``roll_span_deg`` (largest range any module's roll swept), ``body_rolls`` (net
-    turns about the body's axis, mean over modules). Reset: ``com_height``, ``phase``. A
-    ``pickle`` or ``copy.deepcopy`` of the env continues exactly where the original was, mid-episode
-    too (``envs/pickling.py``). ``step``/``render`` before ``reset`` and any call after ``close``
-    raise; ``seed`` is None or an int >= 0 (``envs/lifecycle.py``).
+    turns about the body's axis, mean over modules). Reset: ``com_height``, ``phase``. A copy
+    (``pickle``, ``copy.deepcopy``) continues exactly where the original was (``envs/pickling.py``).
+    ``step``/``render`` before ``reset`` and any call after ``close`` raise (``lifecycle.py``).
 
     ## Non-rolling task
     ``acl_env/ACLClimbNoRoll-v3`` (``acl_env.NOROLL_KWARGS``): climb without rolling, so that
-    sensors can sit on skin that never touches the pole. ACL with ``rolls_per_cycle=0`` and the
-    tuned gait ``acl_noroll``; reward weights ``{"climb": 1, "slip": 0.25, "roll": 0.05}`` (0.05
-    per rad makes a turn cost more than the ~0.2 m a rolling gait climbs with it; slip weighs
-    less because a non-rolling gait inches by sliding the sections between its anchors);
-    ``roll_limit`` 90 deg, the bound on the touched arc in the body frame; ``squeeze_slope``
-    0.85, because the squeeze tuned on the 0.075 m pole asks for more curvature than the joints
-    give on thinner poles (the squeeze-slope experiment, and the gait notes on thin poles).
-    v2 (``NOROLL_V2_KWARGS``): the tuned gait ``acl_noroll_v2``, no slope.
+    sensors can sit on skin that never touches the pole. ACL with ``rolls_per_cycle=0``, tuned
+    gait ``acl_noroll``; reward ``{"climb": 1, "slip": 0.25, "roll": 0.05}`` (a turn costs more
+    than the ~0.2 m a rolling gait climbs with it; a non-rolling gait inches by sliding the
+    sections between its anchors); ``roll_limit`` 90 deg, the bound on the touched arc;
+    ``squeeze_slope`` 0.85: the squeeze tuned on the 0.075 m pole asks for more curvature than the
+    joints give on thinner poles. v2 (``NOROLL_V2_KWARGS``): gait ``acl_noroll_v2``, no slope.
 
     ## Arguments
     | argument | default | accepted | meaning |
@@ -163,29 +161,35 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
     | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
     | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
+    | actuator_model | "servo" | "sea", "servo" | the joint actuators (v3 tasks: "sea") |
+    | spring_stiffness | None (20.0) | [1, 200] | SEA spring, N m/rad (``kp`` is the servo's) |
+    | motor_speed_limit | None (2.2) | [0.1, 100] | SEA motor top speed, rad/s |
+    | control_latency | None (0.01) | [0, 0.2] | s from a command to the SEA motors |
+    | sensor_latency | None (0.005) | [0, 0.2] | s from the joints to the observed angles |
 
-    A value of the wrong kind raises ``TypeError``, one out of range (``10**400`` too)
-    ``ValueError``, both naming the argument (``envs/arguments.py`` says why each bound). A
-    negative reward weight flips its term (allowed; ``rewards.py``). Also: ``0 <= low <= 1 <= high
+    A value of the wrong kind raises ``TypeError``, one out of range ``ValueError``, both naming
+    the argument (``envs/arguments.py`` says why each bound); a negative reward weight flips its
+    term. Also: ``0 <= low <= 1 <= high
     <= steps_per_cycle / 2``; ``squeeze`` below pole + module radius; ``gait_kwargs`` within the
     gait's ranges (``gait/gaits.py``), not setting ``n_joints``, ``steps_per_cycle``,
     ``module_length`` or ``module_diameter``; its ``n_samples`` in [100, 1000]. ``render_mode=
     "human"`` needs a window (``DISPLAY``; not ``MUJOCO_GL=egl``). ``domain_randomization`` draws
-    ``pole_radius`` (the gait's radius follows), ``friction``, ``kp`` and ``mass_scale``
-    (``1e-3 <= mass_scale <= 10``) at every reset, uniformly
-    from ``(low, high)`` ranges inside those arguments' own, and adds Gaussian ``sensor_noise``
-    (``[0, 1]``: rad on angles, 10x in rad/s, kp x in N m); ``True``: ``DEFAULT_RANDOMIZATION``.
+    ``pole_radius`` (the gait's radius follows), ``friction``, ``mass_scale`` (``1e-3 <= mass_scale
+    <= 10``) and ``kp`` (servo) or ``spring_stiffness``, ``motor_speed_limit``, ``control_latency``
+    (SEA) at every reset, uniformly from ``(low, high)`` ranges inside those arguments' own, and
+    adds Gaussian ``sensor_noise`` (``[0, 1]``: rad on angles, 10x in rad/s, stiffness x in N m);
+    ``True``: ``DEFAULT_RANDOMIZATION`` (servo), ``SEA_RANDOMIZATION`` (``envs/randomize.py``).
 
     ## Version History
-    * v1: physics step 1/300 s (30 MuJoCo steps per 0.1 s control step) instead of 2 ms, argument
-      ``timestep`` (``timestep=0.002`` is the v0 physics). Later options, off by default, leave
-      the dynamics and reward unchanged: ``roll_limit``, ``squeeze_slope``, ``tuned_gait``, the
-      ``roll``, ``energy``, ``action_rate`` terms, ``gait_modulation`` (a zero modulation action
-      is bit-identical to none), ``modulation_sections``. v0: initial release.
+    * v1: physics step 1/300 s instead of 2 ms (``timestep=0.002`` is v0's). Later options, off
+      by default, leave the dynamics and reward unchanged (``roll_limit``, ``squeeze_slope``,
+      ``tuned_gait``, ``roll``, ``energy``, ``action_rate``, ``gait_modulation``, the SEA's).
     * Non-rolling task: v3 plays ``acl_noroll`` with ``squeeze_slope``; v2 fixed the gait tables
       on thin poles; v1 is no longer registered.
     * ACLClimb-v2 and ACLClimbNoRoll-v4: v1 and v3 with the shipped policies' tasks as defaults
       (``acl_env.BENCHMARK_KWARGS``, ``acl_env.NOROLL_BENCHMARK_KWARGS``); the same physics.
+    * ACLClimb-v3 and ACLClimbNoRoll-v5: those tasks on the series elastic actuators
+      (``actuator_model="sea"``), each on the gait tuned there (``acl_sea``, ``acl_noroll_sea``).
     """
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -222,6 +226,11 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         height: int = 480,
         camera_name: str = TRACK_CAMERA,
         tuned_gait: str | None = None,
+        actuator_model: str = "servo",
+        spring_stiffness: float | None = None,
+        motor_speed_limit: float | None = None,
+        control_latency: float | None = None,
+        sensor_latency: float | None = None,
     ) -> None:
         raw = dict(locals())  # the arguments, exactly as passed
         del raw["self"]
@@ -251,20 +260,22 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         n_actions = n + n_modulation + (self.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         elements = self._elements = RandomizedElements.of(self.model, n)
-        nominal = (self.pole_radius, self.friction, self.kp, 1.0)  # mass_scale 1
+        sea = self.actuator_model == "sea"
+        nominal = (self.pole_radius, self.friction, None if sea else self.kp, 1.0)  # mass 1x
+        nominal += (self.spring_stiffness, self.motor_speed_limit, self.control_latency)
         self._nominal_physics = dict(zip(PHYSICS_KEYS, nominal, strict=True))
+        self._readout = JointReadout(self.model, self.data, n, sea)
+        self._stiffness = self.spring_stiffness if sea else self.kp  # of this episode
         self._contacts = ContactSampler(self.model, elements.snake_geoms, elements.pole_geom)
         self._root_body = elements.snake_bodies[0]
         # Views into MjData's fixed-size buffers, made once: every attribute access of MjData
         # builds a new array view, which the per-step path pays for many times over.
         data = self.data
-        self._joint_pos, self._joint_vel = data.qpos[7:], data.qvel[6:]
-        self._torque = data.actuator_force
         self._com_view = data.subtree_com[self._root_body]
         self._stability = termination.Stability(data)
         self._body_roll = termination.BodyRoll(self.model, data, n + 1)
         self._roll = termination.RollSpan.begin(np.zeros(n + 1))  # set by each reset
-        self._imu_view = _sensor_indices(self.model, IMU_QUAT_SENSOR, IMU_GYRO_SENSOR)
+        self._imu_view = sensor_indices(self.model, IMU_QUAT_SENSOR, IMU_GYRO_SENSOR)
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
         self._table = self._gait_table()
         self._offset_tables = self._gait_offset_tables(self.pole_radius)
@@ -274,9 +285,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._com_start = 0.0
 
     def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
-        model = build_model(
-            self.n_joints, self.pole_radius, self.friction, self.kp, timestep=self.timestep
-        )
+        args = (self.n_joints, self.pole_radius, self.friction, self.kp)
+        model = build_model(*args, timestep=self.timestep, actuators=self.actuators)
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
         return model, mujoco.MjData(model)
@@ -314,7 +324,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._contacts.pyramidal = self.model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
         physics = draw_physics(self.randomization, self._nominal_physics, rng)
         apply_physics(self.model, self.data, self._elements, physics)
-        self._noise_std = sensor_noise_std(self.randomization, physics["kp"], self.n_joints)
+        self._stiffness = physics["spring_stiffness" if "kp" not in physics else "kp"]
+        self._noise_std = sensor_noise_std(self.randomization, self._stiffness, self.n_joints)
         pole_radius = physics["pole_radius"]
         self.gait = self._make_gait(pole_radius)
         self._table = self._gait_table()
@@ -332,6 +343,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             type(start_gait), kwargs, phase0, pole_radius, yaw, noise, self.init_qpos
         )
         self.set_state(qpos, np.zeros(self.model.nv))
+        if self.actuator_model == "sea":
+            start_motors(self.model, self.data, qpos[7:])  # springs relaxed at the placed pose
         ramp_in(self.model, self.data, qpos[7:].copy(), start_gait.cycle()[self._k0])
         # The ramp ends holding keyframe k0: the first step plays the next one.
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
@@ -362,7 +375,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         data.ctrl[:] = target
         substeps = self.frame_skip // SLIP_SAMPLES
         sample_dt = substeps * model.opt.timestep
-        torque, joint_vel = self._torque, self._joint_vel
+        (readout := self._readout).begin_step()
         slip = energy = 0.0
         touched = grounded = False
         for _ in range(SLIP_SAMPLES):
@@ -371,7 +384,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             slip += speed * sample_dt
             touched |= on_pole
             grounded |= on_floor
-            energy += float(np.abs(torque) @ np.abs(joint_vel)) * sample_dt
+            energy += float(np.abs(readout.torque) @ readout.work_speed(sample_dt)) * sample_dt
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
@@ -448,23 +461,17 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
 
     @property
     def action_names(self) -> tuple[str, ...]:
-        """What each action entry drives, in order: ``joint_<j>`` (the residual of joint ``j``),
-        ``<parameter>_section_<s>`` (gait modulation, section ``s`` from the head), ``cadence``."""
-        names = [f"joint_{j}" for j in range(self.n_joints)]
-        names += [
-            f"{key}_section_{s}" for key in self._modulated for s in range(self.modulation_sections)
-        ]
-        if self.phase_rate_range is not None:
-            names.append("cadence")
-        return tuple(names)
+        """What each action entry drives, in order (``envs/modulation.py``)."""
+        cadence = self.phase_rate_range is not None
+        return modulation.action_names(
+            self.n_joints, self._modulated, self.modulation_sections, cadence
+        )
 
     def _get_obs(self) -> np.ndarray:
         data = self.data
         angle = 2.0 * np.pi * self._keyframe / self.steps_per_cycle
         parts = [
-            self._joint_pos,
-            self._joint_vel,
-            self._torque,
+            self._readout.observe(self._stiffness),
             data.sensordata[self._imu_view],
             [math.cos(angle), math.sin(angle)],
             self._base_target(),
@@ -480,12 +487,6 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
 
     def _get_reset_info(self) -> dict[str, Any]:
         return {"com_height": float(self._com()[2]), "phase": self._keyframe / self.steps_per_cycle}
-
-
-def _sensor_indices(model: mujoco.MjModel, *names: str) -> np.ndarray:
-    """Indices into ``sensordata`` of the named sensors' readings, in order."""
-    spans = [(int(model.sensor(name).adr[0]), int(model.sensor(name).dim[0])) for name in names]
-    return np.concatenate([np.arange(start, start + dim) for start, dim in spans])
 
 
 def __getattr__(name: str) -> Any:

@@ -32,8 +32,15 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from acl_env import tuned_gaits
-from acl_env.constants import CONTROL_DT, DEFAULT_POLE_RADIUS, JOINT_LIMIT, SEA_MODULE_RADIUS
+from acl_env import actuators, tuned_gaits
+from acl_env.actuators import ActuatorConfig
+from acl_env.constants import (
+    CONTROL_DT,
+    DEFAULT_KP,
+    DEFAULT_POLE_RADIUS,
+    JOINT_LIMIT,
+    SEA_MODULE_RADIUS,
+)
 from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.envs.lifecycle import check_display
 from acl_env.envs.modulation import (
@@ -116,6 +123,12 @@ class EnvArguments:
     _section_weights: np.ndarray
     timestep: float
     frame_skip: int
+    actuator_model: str
+    spring_stiffness: float | None
+    motor_speed_limit: float | None
+    control_latency: float | None
+    sensor_latency: float | None
+    actuators: ActuatorConfig
 
 
 def squeeze_at(squeeze: float, squeeze_slope: float, pole_radius: float) -> float:
@@ -170,6 +183,11 @@ def check_arguments(
     height: object,
     camera_name: object,
     tuned_gait: object,
+    actuator_model: object = "servo",
+    spring_stiffness: object = None,
+    motor_speed_limit: object = None,
+    control_latency: object = None,
+    sensor_latency: object = None,
     render_modes: tuple[str, ...],
 ) -> EnvArguments:
     """Every constructor argument checked, in the constructor's order (the first bad one raises);
@@ -207,9 +225,14 @@ def check_arguments(
         if reward_weights is None
         else check_mapping("reward_weights", reward_weights, DEFAULT_REWARD_WEIGHTS)
     )
+    actuator_model = check_choice("actuator_model", actuator_model, actuators.ACTUATOR_MODELS)
+    sea = _sea_options(
+        actuator_model, kp, spring_stiffness, motor_speed_limit, control_latency, sensor_latency
+    )
     randomization = check_randomization(
         domain_randomization,
         {"pole_radius": POLE_RADIUS_RANGE, "friction": (0.0, FRICTION_MAX), "kp": (0.0, KP_MAX)},
+        actuator_model,
     )
     privileged_obs = check_bool("privileged_obs", privileged_obs)
     start_phase_range = check_range("start_phase_range", start_phase_range, 0.0, 1.0)
@@ -251,6 +274,14 @@ def check_arguments(
     if modulation and GAITS[base_gait] is None:
         raise ValueError("gait_modulation needs a base gait to modulate, got base_gait='none'")
     timestep, frame_skip = _timestep(timestep)
+    config = ActuatorConfig(
+        model=actuator_model,
+        spring_stiffness=sea.get("spring_stiffness", actuators.SPRING_STIFFNESS),
+        motor_speed_limit=sea.get("motor_speed_limit", actuators.MOTOR_SPEED_LIMIT),
+        control_latency=sea.get("control_latency", 0.0),
+        sensor_latency=sea.get("sensor_latency", 0.0),
+        max_control_latency=randomization.get("control_latency", (0.0, 0.0))[1],
+    )
     return EnvArguments(
         base_gait=base_gait,
         tuned_gait=tuned_gait,
@@ -278,7 +309,61 @@ def check_arguments(
         _section_weights=section_weights(n_joints, sections),
         timestep=timestep,
         frame_skip=frame_skip,
+        actuator_model=actuator_model,
+        spring_stiffness=sea.get("spring_stiffness"),
+        motor_speed_limit=sea.get("motor_speed_limit"),
+        control_latency=sea.get("control_latency"),
+        sensor_latency=sea.get("sensor_latency"),
+        actuators=config,
     )
+
+
+SEA_OPTIONS = ("spring_stiffness", "motor_speed_limit", "control_latency", "sensor_latency")
+
+
+def _sea_options(
+    actuator_model: str,
+    kp: float,
+    spring_stiffness: object,
+    motor_speed_limit: object,
+    control_latency: object,
+    sensor_latency: object,
+) -> dict[str, float]:
+    """The SEA's options, checked (their defaults where None): only the SEA model has them, and
+    its spring is ``spring_stiffness``, not the servo's ``kp``. Empty for the servo."""
+    given = dict(
+        zip(
+            SEA_OPTIONS,
+            (spring_stiffness, motor_speed_limit, control_latency, sensor_latency),
+            strict=True,
+        )
+    )
+    if actuator_model != "sea":
+        for name, value in given.items():
+            if value is not None:
+                raise ValueError(f"{name} needs actuator_model='sea', got {actuator_model!r}")
+        return {}
+    if kp != DEFAULT_KP:
+        raise ValueError(
+            f"kp sets the servo's stiffness; with actuator_model='sea' set spring_stiffness "
+            f"instead, got kp={kp}"
+        )
+    defaults = {
+        "spring_stiffness": actuators.SPRING_STIFFNESS,
+        "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT,
+        "control_latency": actuators.CONTROL_LATENCY,
+        "sensor_latency": actuators.SENSOR_LATENCY,
+    }
+    ranges = {
+        "spring_stiffness": actuators.SPRING_STIFFNESS_RANGE,
+        "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT_RANGE,
+        "control_latency": actuators.LATENCY_RANGE,
+        "sensor_latency": actuators.LATENCY_RANGE,
+    }
+    return {
+        name: check_range(name, defaults[name] if value is None else value, *ranges[name])
+        for name, value in given.items()
+    }
 
 
 def check_camera(model: mujoco.MjModel, camera_name: str) -> None:

@@ -148,3 +148,13 @@ def _default(gait_class: type[Gait], key: str) -> float:
     if parameter is None:
         raise ValueError(f"gait_modulation: {gait_class.__name__} has no parameter {key!r}")
     return float(parameter.default)
+
+
+def action_names(
+    n_joints: int, modulated: tuple[str, ...], sections: int, cadence: bool
+) -> tuple[str, ...]:
+    """What each action entry drives, in order: ``joint_<j>`` (the residual of joint ``j``),
+    ``<parameter>_section_<s>`` (gait modulation, section ``s`` from the head), ``cadence``."""
+    names = [f"joint_{j}" for j in range(n_joints)]
+    names += [f"{key}_section_{s}" for key in modulated for s in range(sections)]
+    return tuple(names + (["cadence"] if cadence else []))

@@ -8,6 +8,12 @@ are the tasks the shipped policies were trained and published on:
 * ``acl_env/ACLClimbNoRoll-v4``: the non-rolling task (below) with a 0.08 rad residual, rewarded
   climb - 0.05 roll - 0.001 action rate.
 
+On the series elastic snake (``actuator_model="sea"``: motors with a speed limit drive the joints
+through torsional springs, commands and sensors arrive late; :mod:`acl_env.actuators`):
+
+* ``acl_env/ACLClimb-v3``: ACLClimb-v2's task on the SEA;
+* ``acl_env/ACLClimbNoRoll-v5``: ACLClimbNoRoll-v4's task on the SEA.
+
 The environments they build on, and those earlier results are published for:
 
 * ``acl_env/ACLClimb-v1``: residual control on top of the paper's default ACL gait (Eq. 1-5).
@@ -31,13 +37,17 @@ __all__ = [
     "ACL_CLIMB_ID",
     "ACL_CLIMB_NOROLL_BENCHMARK_ID",
     "ACL_CLIMB_NOROLL_ID",
+    "ACL_CLIMB_NOROLL_SEA_ID",
     "ACL_CLIMB_NOROLL_V2_ID",
+    "ACL_CLIMB_SEA_ID",
     "BENCHMARK_BASES",
     "BENCHMARK_KWARGS",
     "NOROLL_BENCHMARK_KWARGS",
     "NOROLL_KWARGS",
+    "NOROLL_SEA_KWARGS",
     "NOROLL_V2_KWARGS",
     "ROLLING_HELIX_CLIMB_ID",
+    "SEA_KWARGS",
     "list_policies",
     "load_policy",
 ]
@@ -48,6 +58,8 @@ ACL_CLIMB_NOROLL_BENCHMARK_ID = "acl_env/ACLClimbNoRoll-v4"
 ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v1"
 ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRoll-v3"
 ACL_CLIMB_NOROLL_V2_ID = "acl_env/ACLClimbNoRoll-v2"
+ACL_CLIMB_SEA_ID = "acl_env/ACLClimb-v3"
+ACL_CLIMB_NOROLL_SEA_ID = "acl_env/ACLClimbNoRoll-v5"
 
 # The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
 # the open-loop tuner's best for this task's reward, entry "acl_noroll" of the shipped tuned gaits
@@ -95,9 +107,21 @@ NOROLL_BENCHMARK_KWARGS = {
 BENCHMARK_BASES = {
     ACL_CLIMB_BENCHMARK_ID: ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_BENCHMARK_ID: ACL_CLIMB_NOROLL_ID,
+    ACL_CLIMB_SEA_ID: ACL_CLIMB_ID,
+    ACL_CLIMB_NOROLL_SEA_ID: ACL_CLIMB_NOROLL_ID,
+}
+# The SEA tasks: the servo benchmark tasks with the series elastic actuators, each on the gait
+# the tuner found best on the SEA for its reward (entries "acl_sea", "acl_noroll_sea").
+SEA_KWARGS = {**BENCHMARK_KWARGS, "actuator_model": "sea", "tuned_gait": "acl_sea"}
+NOROLL_SEA_KWARGS = {
+    **NOROLL_BENCHMARK_KWARGS,
+    **tuned_gaits.gait_shape("acl_noroll_sea"),
+    "actuator_model": "sea",
 }
 
 _ENVS = {
+    ACL_CLIMB_SEA_ID: SEA_KWARGS,
+    ACL_CLIMB_NOROLL_SEA_ID: NOROLL_SEA_KWARGS,
     ACL_CLIMB_BENCHMARK_ID: BENCHMARK_KWARGS,
     ACL_CLIMB_NOROLL_BENCHMARK_ID: NOROLL_BENCHMARK_KWARGS,
     ACL_CLIMB_ID: {"base_gait": "acl"},

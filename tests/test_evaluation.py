@@ -718,6 +718,8 @@ def test_every_registered_task_has_its_baselines() -> None:
         "acl_env/ACLClimbNoRoll-v3": "acl_noroll",
         "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
         "acl_env/RollingHelixClimb-v1": "acl",
+        "acl_env/ACLClimb-v3": "acl_sea",
+        "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
     }
     assert {env_id: task.tuned_key for env_id, task in baselines.TASKS.items()} == expected
     # A gait given on the command line that rolls otherwise than its task's: the default entries.
@@ -740,7 +742,10 @@ def test_the_old_module_warns_and_re_exports() -> None:
     assert old.build_controllers is baselines.build_controllers
     assert old.run_controllers is runner.run_controllers and old.run is evaluate_cli.run
     assert old.DEFAULT_POLICY == baselines.DEFAULT_POLICY
-    assert old.TUNED_KEYS_BY_ENV == {"acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2"}
+    assert old.TUNED_KEYS_BY_ENV == {
+        "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
+        "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
+    }
     for name in old.__all__:
         assert hasattr(old, name), name
 

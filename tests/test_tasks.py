@@ -9,6 +9,7 @@ import yaml
 
 import acl_env
 from acl_env import shipped, tuned_gaits
+from acl_env.evaluation.baselines import spelled_on_base
 
 
 def _recipe() -> dict:
@@ -22,7 +23,19 @@ def _constructor_kwargs(env_id: str, env_kwargs: dict) -> dict:
     return {k: list(v) if isinstance(v, tuple) else v for k, v in kwargs.items()}
 
 
-@pytest.mark.parametrize(("task", "base"), list(acl_env.BENCHMARK_BASES.items()))
+# The servo benchmark ids and the recipe entries whose env kwargs they register.
+SERVO_BENCHMARKS = {
+    acl_env.ACL_CLIMB_BENCHMARK_ID: acl_env.ACL_CLIMB_ID,
+    acl_env.ACL_CLIMB_NOROLL_BENCHMARK_ID: acl_env.ACL_CLIMB_NOROLL_ID,
+}
+# The SEA ids and the servo benchmark ids whose tasks they are, on the SEA.
+SEA_BENCHMARKS = {
+    acl_env.ACL_CLIMB_SEA_ID: acl_env.ACL_CLIMB_BENCHMARK_ID,
+    acl_env.ACL_CLIMB_NOROLL_SEA_ID: acl_env.ACL_CLIMB_NOROLL_BENCHMARK_ID,
+}
+
+
+@pytest.mark.parametrize(("task", "base"), list(SERVO_BENCHMARKS.items()))
 def test_benchmark_id_is_the_shipped_recipes_task(task: str, base: str) -> None:
     """The recipe for a benchmark id trains what the shipped recipe on its base id trains (the
     shipped policy's task): the same hyperparameters, and the id's defaults plus domain
@@ -35,12 +48,35 @@ def test_benchmark_id_is_the_shipped_recipes_task(task: str, base: str) -> None:
     assert _constructor_kwargs(task, new_kwargs) == _constructor_kwargs(base, old_kwargs)
 
 
+@pytest.mark.parametrize(("task", "servo"), list(SEA_BENCHMARKS.items()))
+def test_sea_id_is_the_servo_task_on_the_sea(task: str, servo: str) -> None:
+    """ACLClimb-v3 (NoRoll-v5) trains with ACLClimb-v2's (NoRoll-v4's) hyperparameters, on its
+    task with the SEA and the gait tuned there, and randomises the SEA's parameters."""
+    recipe = _recipe()
+    new, old = dict(recipe[task]), dict(recipe[servo])
+    new_kwargs = new.pop("env_kwargs")
+    old.pop("env_kwargs")
+    assert new == old
+    assert set(new_kwargs) == {"domain_randomization"}
+    assert {"spring_stiffness", "motor_speed_limit", "control_latency"} <= set(
+        new_kwargs["domain_randomization"]
+    )
+    own = tuned_gaits.resolve(gym.spec(task).kwargs)
+    theirs = tuned_gaits.resolve(gym.spec(servo).kwargs)
+    shape = {"squeeze", "gait_kwargs"}
+    assert {k: v for k, v in own.items() if k not in shape | {"actuator_model"}} == {
+        k: v for k, v in theirs.items() if k not in shape
+    }
+    assert own["actuator_model"] == "sea"
+    assert own["gait_kwargs"] != theirs["gait_kwargs"]  # the gait tuned on the SEA
+
+
 @pytest.mark.parametrize(("task", "base"), list(acl_env.BENCHMARK_BASES.items()))
 def test_benchmark_id_steps_as_its_base_with_the_recipes_kwargs(task: str, base: str) -> None:
-    """Bit for bit: the same seeded actions on the benchmark id with no kwargs and on the base
-    id with the shipped recipe's env kwargs (less domain randomisation) give the same steps."""
-    kwargs = dict(_recipe()[base]["env_kwargs"])
-    kwargs.pop("domain_randomization")
+    """Bit for bit: the same seeded actions on the benchmark id with no kwargs and on its base id
+    with the kwargs that spell it (the shipped recipe's, less domain randomisation; for the SEA
+    ids, with the SEA and its gait) give the same steps."""
+    _, kwargs = spelled_on_base(task, {})
     envs = [gym.make(task), gym.make(base, **kwargs)]
     assert envs[0].action_space == envs[1].action_space
     assert envs[0].observation_space == envs[1].observation_space

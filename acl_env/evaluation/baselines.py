@@ -47,7 +47,9 @@ from acl_env import (
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_BENCHMARK_ID,
     ACL_CLIMB_NOROLL_ID,
+    ACL_CLIMB_NOROLL_SEA_ID,
     ACL_CLIMB_NOROLL_V2_ID,
+    ACL_CLIMB_SEA_ID,
     BENCHMARK_BASES,
     ROLLING_HELIX_CLIMB_ID,
     pretrained,
@@ -151,6 +153,11 @@ TASKS: dict[str, TaskBaselines] = {
     ACL_CLIMB_NOROLL_BENCHMARK_ID: TaskBaselines(
         base_gait="acl", non_rolling=True, tuned_key="acl_noroll"
     ),
+    # The SEA tasks: gaits tuned on the SEA (sea_tuned_key).
+    ACL_CLIMB_SEA_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl_sea"),
+    ACL_CLIMB_NOROLL_SEA_ID: TaskBaselines(
+        base_gait="acl", non_rolling=True, tuned_key="acl_noroll_sea"
+    ),
 }
 # The tuned-gaits entry for a gait whose rolling is not its task's (a non-rolling gait given as
 # --env-kwargs to open-loop ACL), or on an env id TASKS does not list, per non-rolling flag.
@@ -189,6 +196,12 @@ def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
     if task is not None and task.non_rolling == non_rolling:
         return task.tuned_key
     return TUNED_KEYS[non_rolling]
+
+
+def sea_tuned_key(key: str) -> str:
+    """The entry tuned on the series elastic actuators for the servo's entry ``key``: a gait is
+    compared with the best open loop on the same physics (``acl`` -> ``acl_sea``)."""
+    return key if key.endswith("_sea") else f"{key}_sea"
 
 
 # --- the tuned gait ------------------------------------------------------------------------------
@@ -275,11 +288,15 @@ def spelled_on_base(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[
 def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
     """The inverse of :func:`spelled_on_base`: a base id whose kwargs spell a benchmark task as
     that benchmark id and the kwargs left over (domain randomisation); any other as it is."""
-    for benchmark, base_id in BENCHMARK_BASES.items():
-        if base_id == env_id:
-            implied = spelled_on_base(benchmark, {})[1]
-            if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
-                return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
+    # The most specific first: ACLClimb-v3 is ACLClimb-v2's kwargs and the SEA.
+    candidates = [
+        (benchmark, spelled_on_base(benchmark, {})[1])
+        for benchmark, base_id in BENCHMARK_BASES.items()
+        if base_id == env_id
+    ]
+    for benchmark, implied in sorted(candidates, key=lambda item: -len(item[1])):
+        if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
+            return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
     return env_id, dict(env_kwargs)
 
 
@@ -335,6 +352,8 @@ def build_controllers(
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
     weights = base.get("reward_weights")
+    if tuned_key is None and env_setting(acl_id, acl_kwargs, "actuator_model") == "sea":
+        tuned_key = sea_tuned_key(default_tuned_key(acl_id, non_rolling))
     tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, acl_id)
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
     on_tuned = tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items())
@@ -353,6 +372,8 @@ def build_controllers(
             # action): the non-rolling task's roll term and roll_limit apply to it as well.
             tuned_id = acl_id
         kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
+        if env_setting(tuned_id, {}, "tuned_gait") is not None:
+            kwargs["tuned_gait"] = None  # the entry's gait, not the one tuned_id registers
         controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
         notes.append(f"open_loop_tuned: {note}")
         if sets_cadence:

@@ -93,6 +93,8 @@ class TuneSettings:
     def make_envs(self, params: Mapping[str, float]) -> list[gymnasium.Env]:
         """One env per condition playing the gait ``params`` under the protocol."""
         kwargs = {**self.protocol_kwargs(), **self.env_kwargs(params)}
+        # The trial's gait replaces a tuned gait the env's id plays (ACLClimb-v2, v3).
+        kwargs["tuned_gait"] = None
         with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
             warnings.simplefilter("ignore", DeprecationWarning)
             return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]

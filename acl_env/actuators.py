@@ -194,20 +194,20 @@ class JointReadout:
         self._last_motor = np.zeros(n_joints)
 
     def begin_step(self) -> None:
-        """Mark the motors' angles where a step starts (for :meth:`work_speed`)."""
+        """Mark the motors' angles where a step starts (for :meth:`work`)."""
         if self.sea:
             self._last_motor[:] = self._motor
 
-    def work_speed(self, dt: float) -> np.ndarray:
-        """The speeds the actuators' torques work at over the last ``dt`` s: the SEA motors'
-        mean speed (their angle's change over ``dt``: a motor that slews in short bursts after
-        each command is counted whole, which instants of its speed would miss), the servo's joint
-        speed now."""
+    def work(self, dt: float) -> float:
+        """The actuators' work over the last ``dt`` s (J, motors that do not regenerate): for the
+        SEA, |torque| times each motor's displacement over ``dt`` (a motor that slews in short
+        bursts after each command is counted whole, which instants of its speed would miss); for
+        the servo, |torque| times the joint's speed now, times ``dt``."""
         if not self.sea:
-            return np.abs(self._joint_speed)
-        speed = np.abs(self._motor - self._last_motor) / dt
+            return float(np.abs(self.torque) @ np.abs(self._joint_speed)) * dt
+        moved = np.abs(self._motor - self._last_motor)
         self._last_motor[:] = self._motor
-        return speed
+        return float(np.abs(self.torque) @ moved)
 
     def observe(self, stiffness: float) -> np.ndarray:
         """Joint angles, velocities and torques, ``3 n`` values (``stiffness``: the spring's)."""

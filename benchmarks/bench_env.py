@@ -1,6 +1,7 @@
-"""Speed of the climbing env: env step against raw physics, v1 against the v0 2 ms step, scaling.
+"""Speed of the climbing env: env step against raw physics, v1 against the v0 2 ms step, the SEA
+against the servo, scaling.
 
-``python benchmarks/bench_env.py [--steps 400] [--rounds 7] [--json PATH]``
+``python benchmarks/bench_env.py [--env ID] [--steps 400] [--rounds 7] [--json PATH]``
 
 1. **Env overhead.** For every step, from the same saved physics state, ``env.step`` and the raw
    physics of that step (the same ``mj_step`` calls: ``SLIP_SAMPLES`` x ``nstep=substeps`` with
@@ -9,7 +10,10 @@
    and the same for the thread's CPU time (robust to other processes taking the core).
 2. **Steps per second per core** of ``env.step`` at the default physics step and at the old
    2 ms step (``timestep=0.002``), in alternating blocks of the same run (median of rounds).
-3. **Process scaling:** total steps/s of Gymnasium's async vector env with 1 and 2 worker
+3. **SEA against servo:** steps per second of ``env.step`` on ACLClimb-v3 (series elastic
+   actuators) and ACLClimb-v2 (the same task on the ideal servo), alternating blocks of thread
+   CPU time, median of the per-round ratio.
+4. **Process scaling:** total steps/s of Gymnasium's async vector env with 1 and 2 worker
    processes, alternating, median of rounds; meaningful only on an otherwise idle machine.
 
 Timings on a loaded machine are noisy; the ratios come from interleaved measurements so that
@@ -25,7 +29,7 @@ import mujoco
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID
+from acl_env import ACL_CLIMB_BENCHMARK_ID, ACL_CLIMB_ID, ACL_CLIMB_SEA_ID
 from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.acl_climb import SLIP_SAMPLES
 from acl_env.scripts import make_parser, timed_steps, write_output
@@ -34,9 +38,10 @@ V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 
-def env_vs_raw(steps: int, rounds: int) -> dict[str, float]:
-    """Interleaved ``env.step`` and raw physics of the same step from the same state."""
-    env = gym.make(ACL_CLIMB_ID).unwrapped
+def env_vs_raw(steps: int, rounds: int, env_id: str = ACL_CLIMB_ID) -> dict[str, float]:
+    """Interleaved ``env.step`` and raw physics of the same step from the same state (the SEA's
+    command and sensor histories and motor states included)."""
+    env = gym.make(env_id).unwrapped
     env.reset(seed=0)
     model, data = env.model, env.data
     action = np.zeros(env.action_space.shape, dtype=np.float32)
@@ -48,6 +53,8 @@ def env_vs_raw(steps: int, rounds: int) -> dict[str, float]:
         for k in range(steps):
             mujoco.mj_getState(model, data, state, STATE)
             target = np.clip(env._base_target(), -np.pi / 2, np.pi / 2)  # the zero residual
+            if env.phase_rate_range is not None:
+                action[-1] = 0.0  # cadence 1: the table row
             env_first = (k + r) % 2 == 0
             for side in ("env", "raw") if env_first else ("raw", "env"):
                 if side == "env":
@@ -101,6 +108,26 @@ def steps_per_second(steps: int, rounds: int) -> dict[str, float]:
     return out
 
 
+def sea_vs_servo(steps: int, rounds: int) -> dict[str, float]:
+    """``env.step`` per second of the SEA task and the same task on the servo, alternating."""
+    envs = {
+        "sea": gym.make(ACL_CLIMB_SEA_ID).unwrapped,
+        "servo": gym.make(ACL_CLIMB_BENCHMARK_ID).unwrapped,
+    }
+    for env in envs.values():
+        env.reset(seed=0)
+    rates: dict[str, list[float]] = {name: [] for name in envs}
+    for _ in tqdm(range(rounds), desc="sea vs servo", leave=False):
+        for name, env in envs.items():
+            # thread CPU time: other processes on the machine do not count
+            rates[name].append(steps / timed_steps(env, steps, time.thread_time, reset_seed=0))
+    return {
+        "steps_per_s_sea": float(np.median(rates["sea"])),
+        "steps_per_s_servo": float(np.median(rates["servo"])),
+        "sea_step_over_servo": float(np.median(np.array(rates["servo"]) / np.array(rates["sea"]))),
+    }
+
+
 def vector_scaling(steps: int, rounds: int) -> dict[str, float]:
     """Total steps/s of the async vector env with 1 and 2 processes, alternating rounds."""
     vecs = {n: gym.make_vec(ACL_CLIMB_ID, num_envs=n, vectorization_mode="async") for n in (1, 2)}
@@ -129,17 +156,24 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     parser.add_argument("--steps", type=int, default=400, help="env steps per round and side")
     parser.add_argument("--rounds", type=int, default=7, help="alternating rounds (median)")
     parser.add_argument("--skip-vector", action="store_true", help="skip the process scaling")
+    parser.add_argument(
+        "--env",
+        default=ACL_CLIMB_ID,
+        help="env of the env-vs-raw comparison (default: %(default)s)",
+    )
     args = parser.parse_args(argv)
 
     figures: dict[str, float] = {"default_timestep_ms": 1e3 * PHYSICS_TIMESTEP}
-    figures |= env_vs_raw(args.steps, args.rounds)
+    figures |= {"env_vs_raw_env": args.env}
+    figures |= env_vs_raw(args.steps, args.rounds, args.env)
     figures |= steps_per_second(args.steps, args.rounds)
+    figures |= sea_vs_servo(args.steps, args.rounds)
     if not args.skip_vector:
         figures |= vector_scaling(args.steps, args.rounds)
     figures["real_time_factor"] = 0.1 * figures["steps_per_s_default"]
     print(f"{'measure':34s} value")
     for key, value in figures.items():
-        if not isinstance(value, list):
+        if isinstance(value, float):
             print(f"{key:34s} {value:10.3f}")
     write_output(args.json, figures)
     return figures

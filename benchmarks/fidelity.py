@@ -1,7 +1,10 @@
 """Physics fidelity against cost: open-loop climbing under candidate physics settings vs 1 ms.
 
 ``python benchmarks/fidelity.py [--seeds 3] [--cycles 2] [--settings NAME ...] [--workers 1]
-[--json PATH] [--figure PATH]``
+[--actuator-model servo|sea] [--json PATH] [--figure PATH]``
+
+``--actuator-model sea`` runs every condition on the series elastic actuators (``kp 10`` becomes
+a 10 N m/rad spring); their command latency is whole physics steps at every setting compared.
 
 Every panel condition (gait, pole, skin, springs, a fixed random residual) is rolled out for
 ``--cycles`` gait cycles per seed under every candidate setting (physics step, friction cone,
@@ -103,13 +106,25 @@ TOLERANCES = {
 RESIDUAL_SEED = 12345  # the random residual sequence is the same under every setting
 
 
-def rollout(condition: Condition, setting: Setting, seed: int, cycles: int) -> dict[str, float]:
+def actuator_kwargs(kwargs: dict[str, Any], actuator_model: str) -> dict[str, Any]:
+    """A condition's env kwargs on ``actuator_model`` (the servo's ``kp`` as the SEA's spring)."""
+    if actuator_model == "servo":
+        return dict(kwargs)
+    out = {k: v for k, v in kwargs.items() if k != "kp"}
+    if "kp" in kwargs:
+        out["spring_stiffness"] = kwargs["kp"]
+    return {**out, "actuator_model": actuator_model}
+
+
+def rollout(
+    condition: Condition, setting: Setting, seed: int, cycles: int, actuator_model: str = "servo"
+) -> dict[str, float]:
     """Climb and slip per cycle, energy per metre, fall, warnings and step cost of one episode."""
     env = gym.make(
         condition.env_id,
         timestep=setting.timestep,
         cycles_per_episode=cycles,
-        **condition.kwargs,
+        **actuator_kwargs(condition.kwargs, actuator_model),
     )
     base = env.unwrapped
     apply_physics_options(base.model, setting.options)
@@ -141,14 +156,17 @@ def rollout(condition: Condition, setting: Setting, seed: int, cycles: int) -> d
     }
 
 
-def step_costs(settings: list[str], steps: int, rounds: int) -> dict[str, float]:
+def step_costs(
+    settings: list[str], steps: int, rounds: int, actuator_model: str = "servo"
+) -> dict[str, float]:
     """CPU time (ms) of one open-loop ``env.step`` of the default ACL env per setting: blocks of
     ``steps`` steps, settings in turn, median over ``rounds`` (thread CPU time, so other
     processes on the machine do not count)."""
     envs = {}
     for name in settings:
         setting = SETTINGS[name]
-        env = gym.make(ACL_CLIMB_ID, timestep=setting.timestep).unwrapped
+        kwargs = actuator_kwargs({}, actuator_model)
+        env = gym.make(ACL_CLIMB_ID, timestep=setting.timestep, **kwargs).unwrapped
         apply_physics_options(env.model, setting.options)
         env.reset(seed=0)
         envs[name] = env
@@ -160,9 +178,10 @@ def step_costs(settings: list[str], steps: int, rounds: int) -> dict[str, float]
     return {name: float(np.median(c)) for name, c in costs.items()}
 
 
-def _cell(args: tuple[str, str, int, int]) -> tuple[str, str, int, dict[str, float]]:
-    condition, setting, seed, cycles = args
-    return condition, setting, seed, rollout(CONDITIONS[condition], SETTINGS[setting], seed, cycles)
+def _cell(args: tuple[str, str, int, int, str]) -> tuple[str, str, int, dict[str, float]]:
+    condition, setting, seed, cycles, model = args
+    result = rollout(CONDITIONS[condition], SETTINGS[setting], seed, cycles, model)
+    return condition, setting, seed, result
 
 
 def summarize(
@@ -286,10 +305,13 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     )
     parser.add_argument("--cost-steps", type=int, default=100, help="steps per cost block")
     parser.add_argument("--cost-rounds", type=int, default=7, help="cost rounds (median)")
+    parser.add_argument(
+        "--actuator-model", choices=("servo", "sea"), default="servo", help="joint actuators"
+    )
     args = parser.parse_args(argv)
     settings = list(dict.fromkeys([REFERENCE, BASELINE, *(args.settings or SETTINGS)]))
     tasks = [
-        (condition, setting, seed, args.cycles)
+        (condition, setting, seed, args.cycles, args.actuator_model)
         for seed in range(args.seeds)
         for condition in CONDITIONS
         for setting in settings
@@ -300,7 +322,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             pool.map(_cell, tasks), total=len(tasks), desc="fidelity"
         ):
             runs.setdefault((condition, setting), []).append(result)
-    costs = step_costs(settings, args.cost_steps, args.cost_rounds)
+    costs = step_costs(settings, args.cost_steps, args.cost_rounds, args.actuator_model)
     summary = summarize(runs, settings, costs)
     print_tables(summary)
     passing = [name for name, s in summary.items() if s["passes"] and name != REFERENCE]

@@ -77,6 +77,22 @@ RECORDS: dict[str, Record] = {
         ("docs/fidelity.json", "docs/fidelity.png"),
         "python benchmarks/fidelity.py --json docs/fidelity.json --figure docs/fidelity.png",
     ),
+    "step_response": Record(
+        ("docs/step_response.json", "docs/step_response.png"),
+        "python benchmarks/step_response.py --json docs/step_response.json"
+        " --plot docs/step_response.png",
+    ),
+    "sea_vs_servo": Record(
+        ("docs/sea_vs_servo.json", "docs/sea_vs_servo.png"),
+        "python benchmarks/sea_vs_servo.py --json docs/sea_vs_servo.json"
+        " --plot docs/sea_vs_servo.png",
+    ),
+    "fidelity_sea": Record(
+        ("docs/fidelity_sea.json", "docs/fidelity_sea.png"),
+        'python benchmarks/fidelity.py --actuator-model sea --settings "1 ms" "2 ms (v0)"'
+        ' "3.3 ms (v1)" --cost-rounds 3 --json docs/fidelity_sea.json'
+        " --figure docs/fidelity_sea.png",
+    ),
     "gait": Record(("docs/gait.png",), "python -m acl_env.gait --plot docs/gait.png"),
     "acl_policy_video": Record(
         ("docs/acl_policy.mp4",),

@@ -384,7 +384,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             slip += speed * sample_dt
             touched |= on_pole
             grounded |= on_floor
-            energy += float(np.abs(readout.torque) @ readout.work_speed(sample_dt)) * sample_dt
+            energy += readout.work(sample_dt)
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 

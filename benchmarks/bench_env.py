@@ -1,7 +1,7 @@
 """Speed of the climbing env: env step against raw physics, v1 against the v0 2 ms step, the SEA
 against the servo, scaling.
 
-``python benchmarks/bench_env.py [--env ID] [--steps 400] [--rounds 7] [--json PATH]``
+``python benchmarks/bench_env.py [--env ID] [--steps 400] [--rounds 7] [--json PATH] [--plot PATH]``
 
 1. **Env overhead.** For every step, from the same saved physics state, ``env.step`` and the raw
    physics of that step (the same ``mj_step`` calls: ``SLIP_SAMPLES`` x ``nstep=substeps`` with
@@ -23,6 +23,7 @@ load hits both sides alike.
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import gymnasium as gym
 import mujoco
@@ -32,7 +33,7 @@ from tqdm import tqdm
 from acl_env import ACL_CLIMB_BENCHMARK_ID, ACL_CLIMB_ID, ACL_CLIMB_SEA_ID
 from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.acl_climb import SLIP_SAMPLES
-from acl_env.scripts import make_parser, timed_steps, write_output
+from acl_env.scripts import make_parser, save_figure, timed_steps, use_agg, write_outputs
 
 V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -151,8 +152,25 @@ def vector_scaling(steps: int, rounds: int) -> dict[str, float]:
     }
 
 
-def main(argv: list[str] | None = None) -> dict[str, float]:
-    parser = make_parser(__doc__)
+def plot(figures: dict[str, Any], path: Any) -> None:
+    """Cost per env step: the env on the SEA and on the servo (thread CPU time), and the measured
+    env's step against its raw physics (wall time, step by step from the same states)."""
+    plt = use_agg()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.4))
+    sea, servo = 1e3 / figures["steps_per_s_sea"], 1e3 / figures["steps_per_s_servo"]
+    axes[0].bar(["ACLClimb-v2 (servo)", "ACLClimb-v3 (SEA)"], [servo, sea], color=["C0", "C1"])
+    axes[0].set_ylabel("ms per env step (CPU)")
+    axes[0].set_title(f"SEA / servo: {figures['sea_step_over_servo']:.2f}x")
+    axes[1].bar(
+        ["raw physics", "env.step"], [figures["raw_physics_ms"], figures["env_step_ms"]], color="C1"
+    )
+    axes[1].set_ylabel("ms per env step (wall)")
+    axes[1].set_title(f"{figures['env_vs_raw_env']}: env / raw {figures['env_over_raw']:.2f}x")
+    save_figure(fig, path, dpi=110, tight=True)
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = make_parser(__doc__, plot=True)
     parser.add_argument("--steps", type=int, default=400, help="env steps per round and side")
     parser.add_argument("--rounds", type=int, default=7, help="alternating rounds (median)")
     parser.add_argument("--skip-vector", action="store_true", help="skip the process scaling")
@@ -163,7 +181,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     )
     args = parser.parse_args(argv)
 
-    figures: dict[str, float] = {"default_timestep_ms": 1e3 * PHYSICS_TIMESTEP}
+    figures: dict[str, Any] = {"default_timestep_ms": 1e3 * PHYSICS_TIMESTEP}
     figures |= {"env_vs_raw_env": args.env}
     figures |= env_vs_raw(args.steps, args.rounds, args.env)
     figures |= steps_per_second(args.steps, args.rounds)
@@ -175,7 +193,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     for key, value in figures.items():
         if isinstance(value, float):
             print(f"{key:34s} {value:10.3f}")
-    write_output(args.json, figures)
+    write_outputs(args, figures, plot)
     return figures
 
 

@@ -12,7 +12,12 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env import (
+    ACL_CLIMB_ID,
+    ACL_CLIMB_NOROLL_SEA_ID,
+    ACL_CLIMB_SEA_ID,
+    ROLLING_HELIX_CLIMB_ID,
+)
 from acl_env.constants import PHYSICS_TIMESTEP, SEA_MODULE_LENGTH, SEA_MODULE_RADIUS
 from acl_env.envs import ACLClimbEnv
 from acl_env.gait import ACLGait
@@ -60,10 +65,16 @@ def test_gymnasium_check_env(env_id: str) -> None:
     env.close()
 
 
-def test_sb3_check_env() -> None:
+@pytest.mark.parametrize("env_id", [ACL_CLIMB_SEA_ID, ACL_CLIMB_NOROLL_SEA_ID])
+def test_gymnasium_check_env_on_the_sea(env_id: str) -> None:
+    test_gymnasium_check_env(env_id)
+
+
+@pytest.mark.parametrize("env_id", [ACL_CLIMB_ID, ACL_CLIMB_SEA_ID])
+def test_sb3_check_env(env_id: str) -> None:
     from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
-    env = gym.make(ACL_CLIMB_ID, **SHORT)
+    env = gym.make(env_id, **SHORT)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         sb3_check_env(env.unwrapped, warn=True)

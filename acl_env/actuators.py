@@ -161,16 +161,35 @@ def set_control_latency(model: mujoco.MjModel, latency: float) -> None:
     model.actuator_delay[:] = latency
 
 
-def start_motors(model: mujoco.MjModel, data: mujoco.MjData, angles: np.ndarray) -> None:
-    """Motors at rest at ``angles`` (the placed start pose), with a command history that has
-    always asked for them: the start ramp then begins from a relaxed spring, not from zero."""
-    data.act[:] = angles
-    data.ctrl[:] = angles
-    for j, angle in enumerate(angles):
+def start_motors(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    start: np.ndarray,
+    target: np.ndarray,
+    shortest: float,
+) -> float:
+    """Motors at rest at ``start`` (the placed pose), with a command history that has always asked
+    for it: the start ramp then begins from relaxed springs, not from zero. Returns how long the
+    ramp to ``target`` must last for the motors to follow (:func:`ramp_time`)."""
+    data.act[:] = start
+    data.ctrl[:] = start
+    for j, angle in enumerate(start):
         samples = int(model.actuator_history[j, 0])
         if samples > 0:
             values = np.full((samples, 1), float(angle))
             mujoco.mj_initCtrlHistory(model, data, j, None, values)
+    return ramp_time(model, start, target, shortest)
+
+
+def ramp_time(
+    model: mujoco.MjModel, start: np.ndarray, target: np.ndarray, shortest: float
+) -> float:
+    """How long (s) the start ramp from ``start`` to ``target`` must last for the SEA's motors to
+    follow it: the largest move at 80 % of the slowest motor's top speed, plus the command
+    latency; at least ``shortest`` (the servo's ramp)."""
+    speed = float(model.actuator_dynprm[:, 1].min())
+    latency = float(model.actuator_delay.max())
+    return max(shortest, float(np.abs(target - start).max()) / (0.8 * speed) + latency)
 
 
 def read_torque(torque: np.ndarray, stiffness: float) -> np.ndarray:
@@ -232,6 +251,7 @@ __all__ = [
     "configure_spec",
     "history_samples",
     "joint_sensor_indices",
+    "ramp_time",
     "read_torque",
     "set_control_latency",
     "set_motor_speed_limit",

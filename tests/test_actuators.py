@@ -157,3 +157,14 @@ def test_servo_tasks_are_unchanged_by_the_sea_option() -> None:
     assert env.model.nhistory == 0
     assert env.model.nsensor == 2
     assert (env.model.actuator_dyntype == 0).all()
+
+
+def test_the_start_ramp_waits_for_the_motors() -> None:
+    """The SEA's motors reach the first keyframe before the episode starts, however far the placed
+    pose is from it at their speed (a slow motor gets a longer ramp)."""
+    for speed in (MOTOR_SPEED_LIMIT, 0.5):
+        env = ACLClimbEnv(actuator_model="sea", motor_speed_limit=speed)
+        for seed in range(3):
+            env.reset(seed=seed)
+            np.testing.assert_allclose(env.data.act, env.data.ctrl, atol=1e-9)
+            np.testing.assert_allclose(env.data.ctrl, env._table[env._k0], atol=1e-12)

@@ -41,7 +41,7 @@ from acl_env.envs.randomize import (
     sensor_noise_std,
 )
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, StepMeasures, reward_terms
-from acl_env.envs.start import placed_qpos, ramp_in
+from acl_env.envs.start import RAMP_TIME, placed_qpos, ramp_in
 from acl_env.gait import Gait
 from acl_env.model import assets_dir, build_model, sensor_indices
 
@@ -268,8 +268,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._stiffness = self.spring_stiffness if sea else self.kp  # of this episode
         self._contacts = ContactSampler(self.model, elements.snake_geoms, elements.pole_geom)
         self._root_body = elements.snake_bodies[0]
-        # Views into MjData's fixed-size buffers, made once: every attribute access of MjData
-        # builds a new array view, which the per-step path pays for many times over.
+        # Views into MjData made once: each attribute access of MjData builds a new array view.
         data = self.data
         self._com_view = data.subtree_com[self._root_body]
         self._stability = termination.Stability(data)
@@ -343,9 +342,10 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             type(start_gait), kwargs, phase0, pole_radius, yaw, noise, self.init_qpos
         )
         self.set_state(qpos, np.zeros(self.model.nv))
-        if self.actuator_model == "sea":
-            start_motors(self.model, self.data, qpos[7:])  # springs relaxed at the placed pose
-        ramp_in(self.model, self.data, qpos[7:].copy(), start_gait.cycle()[self._k0])
+        start, target, duration = qpos[7:].copy(), start_gait.cycle()[self._k0], RAMP_TIME
+        if self.actuator_model == "sea":  # motors at rest there, given the time their speed asks
+            duration = start_motors(self.model, self.data, start, target, RAMP_TIME)
+        ramp_in(self.model, self.data, start, target, duration)
         # The ramp ends holding keyframe k0: the first step plays the next one.
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
         self._com_start = self._com()[2]

@@ -53,17 +53,22 @@ def placed_qpos(
 
 
 def ramp_in(
-    model: mujoco.MjModel, data: mujoco.MjData, start: np.ndarray, target: np.ndarray
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    start: np.ndarray,
+    target: np.ndarray,
+    ramp_time: float = RAMP_TIME,
 ) -> None:
     """Ramp the servo targets from the placed pose ``start`` to the first keyframe ``target`` in
-    ``RAMP_TIME``, then hold it for ``SETTLE_TIME``.
+    ``ramp_time`` (``RAMP_TIME``; the SEA's motors need longer, ``actuators.ramp_time``), then
+    hold it for ``SETTLE_TIME``.
 
     Gravity is off while the squeeze ramps in (the loose start pose cannot hold yet, and would
     drop ~10 cm before gripping); it is back on for the hold, so the episode starts from a snake
     that carries its own weight.
     """
     chunks, dt = 10, model.opt.timestep
-    per_chunk = max(1, round(RAMP_TIME / dt / chunks))
+    per_chunk = max(1, round(ramp_time / dt / chunks))
     gravity = model.opt.gravity.copy()
     model.opt.gravity[:] = 0.0
     for i in range(1, chunks + 1):

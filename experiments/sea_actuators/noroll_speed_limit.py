@@ -25,6 +25,9 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "SEA, motor 20 rad/s": {"actuator_model": "sea", "motor_speed_limit": 20.0},
     "SEA, no latency": {"actuator_model": "sea", "control_latency": 0.0, "sensor_latency": 0.0},
     "SEA, spring 40 N m/rad": {"actuator_model": "sea", "spring_stiffness": 40.0},
+    # The same gait played slower: 275 and 330 keyframes per cycle (climb still per gait cycle).
+    "SEA, 1.25x slower": {"actuator_model": "sea", "steps_per_cycle": 275},
+    "SEA, 1.5x slower": {"actuator_model": "sea", "steps_per_cycle": 330},
 }
 
 

@@ -187,6 +187,26 @@ def test_a_study_resumes_on_the_env_it_was_run_on(
     assert entry["env_id"] == "acl_env/ACLClimbNoRoll-v2"
 
 
+def test_a_benchmark_id_is_tuned_for_its_registered_reward_from_the_given_gaits(
+    tmp_path: Path,
+) -> None:
+    """On ACLClimb-v3 (whose recipe entry holds only domain randomisation) the objective is the
+    reward the id registers, and the trial plays its own gait, not the registered tuned one;
+    ``--start-from`` makes a shipped tuned gait one of the first trials."""
+    args = ["--env", "acl_env/ACLClimb-v3", "--key", "sea", "--validate-seeds", "0"]
+    args += ["--steps-per-cycle", "110"]  # the SEA's motors cannot follow 20 keyframes a cycle
+    main(tiny_args(tmp_path, "--n-trials", "2", "--start-from", "acl", *args))
+    study = load(tmp_path, "sea")
+    registered = gymnasium.spec("acl_env/ACLClimb-v3").kwargs["reward_weights"]
+    assert study.user_attrs["settings"]["reward_weights"] == registered
+    started = [t for t in study.trials if t.user_attrs.get("start_from")]
+    assert len(started) == 1
+    shape = tuned_gaits.gait_shape("acl")
+    assert started[0].params["squeeze"] == pytest.approx(shape["squeeze"])
+    assert started[0].params["pitch"] == pytest.approx(shape["gait_kwargs"]["pitch"])
+    assert len(study.get_trials(states=FINISHED)) == 2
+
+
 def test_policy_point_reads_energy_climb_and_slip(tmp_path: Path) -> None:
     summary = {"energy_per_m": {"mean": 700.0}, "climb_per_gait_cycle_m": {"mean": 0.2}}
     path = tmp_path / "eval.json"

@@ -46,7 +46,13 @@ from acl_env.tuning.checks import (
 )
 from acl_env.tuning.frontier import policy_point, render_frontier
 from acl_env.tuning.objective import DEFAULT_SEEDS, OBJECTIVES, TuneSettings
-from acl_env.tuning.space import CONDITIONS, UsageError, parse_condition, parse_space
+from acl_env.tuning.space import (
+    CONDITIONS,
+    UsageError,
+    parse_condition,
+    parse_space,
+    start_points,
+)
 from acl_env.tuning.stop import catch_stop_signals, restore_signals
 from acl_env.tuning.study import (
     DEFAULT_HEARTBEAT,
@@ -186,6 +192,13 @@ def make_parser() -> ArgumentParser:
         metavar="STUDY",
         help="other studies in --storage whose gaits join the frontier figure",
     )
+    parser.add_argument(
+        "--start-from",
+        nargs="+",
+        default=[],
+        metavar="KEY",
+        help="shipped tuned gaits a new study tries first (e.g. a gait tuned on other physics)",
+    )
     parser.add_argument("--sampler-seed", type=int_in(*SAMPLER_SEED_RANGE), default=None)
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
@@ -216,7 +229,11 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         if not isinstance(hyperparams, dict):
             raise UsageError("--config", f"{args.config} entry {env_id} is not a mapping")
         check_recipe(hyperparams, env_id, f"{args.config} entry {env_id}")
-        weights = dict((hyperparams.get("env_kwargs") or {}).get("reward_weights") or {})
+        # The entry's reward, else the one the env registers (a benchmark id's entry holds
+        # only its domain randomisation): the reward the recipe trains on.
+        registered = (gymnasium.spec(env_id).kwargs or {}).get("reward_weights") or {}
+        entry = (hyperparams.get("env_kwargs") or {}).get("reward_weights")
+        weights = dict(entry if entry is not None else registered)
     else:
         try:
             weights = pairs_to_dict("--reward-weights", args.reward_weights)
@@ -278,7 +295,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         database = sqlite_path(args.storage)
         new_file = database is not None and not database.exists()
         try:  # last: it creates the study (and a new SQLite file)
-            prepare_study(settings, args.storage, study_name, args.heartbeat)
+            starts = start_points(args.start_from, settings.space)
+            prepare_study(settings, args.storage, study_name, args.heartbeat, starts)
         except UsageError:
             if new_file and database is not None:
                 database.unlink(missing_ok=True)

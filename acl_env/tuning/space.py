@@ -81,6 +81,31 @@ DEFAULT_PARAMS: dict[str, float] = {
 }
 
 
+def start_points(keys: Sequence[str], space: Mapping[str, ParamRange]) -> list[dict[str, float]]:
+    """The search-space points of shipped tuned gaits (``acl_env.tuned_gaits`` keys): a study
+    can start from a gait tuned on other physics or for another objective (``--start-from``).
+    A key that is not shipped, or a gait outside ``space``, raises :class:`UsageError`."""
+    from acl_env import tuned_gaits  # the package's shipped data
+
+    points = []
+    for key in keys:
+        try:
+            shape = tuned_gaits.gait_shape(key)
+        except tuned_gaits.TunedGaitsError as exc:
+            raise UsageError("--start-from", str(exc)) from None
+        values = {"squeeze": shape.get("squeeze"), **(shape.get("gait_kwargs") or {})}
+        point = {name: values.get(name) for name in space}
+        outside = [
+            name
+            for name, value in point.items()
+            if value is None or not space[name].low <= value <= space[name].high
+        ]
+        if outside:
+            raise UsageError("--start-from", f"{key!r} is outside the search space in {outside}")
+        points.append({k: float(v) if not space[k].integer else int(v) for k, v in point.items()})
+    return points
+
+
 def check_space(space: Mapping[str, ParamRange], pole_radius: float = DEFAULT_POLE_RADIUS) -> None:
     """Raise :class:`UsageError` (``--space``) if a range leaves the gait's validity."""
     for name, r in space.items():

@@ -22,7 +22,7 @@ import inspect
 import multiprocessing
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -220,9 +220,15 @@ def _worker_process(*args: Any, **kwargs: Any) -> None:
 
 
 def prepare_study(
-    settings: TuneSettings, storage: str, study_name: str, heartbeat: int = DEFAULT_HEARTBEAT
+    settings: TuneSettings,
+    storage: str,
+    study_name: str,
+    heartbeat: int = DEFAULT_HEARTBEAT,
+    start_from: Sequence[Mapping[str, float]] = (),
 ) -> tuple[optuna.Study, optuna.storages.RDBStorage]:
-    """Create or resume the study; a study run with other settings raises :class:`UsageError`."""
+    """Create or resume the study; a study run with other settings raises :class:`UsageError`.
+    A new study's first trials are the default gait (when inside the space) and the gaits of
+    ``start_from`` (points of the space: :func:`acl_env.tuning.space.start_points`)."""
     rdb = open_storage(storage, heartbeat)
     try:
         study = optuna.create_study(
@@ -241,6 +247,8 @@ def prepare_study(
             settings.space[k].low <= v <= settings.space[k].high for k, v in DEFAULT_PARAMS.items()
         ):
             study.enqueue_trial(DEFAULT_PARAMS, user_attrs={"default_gait": True})
+        for params in start_from:
+            study.enqueue_trial(dict(params), user_attrs={"start_from": True})
     elif stored != attrs:
         changed = sorted(k for k in attrs if stored.get(k) != attrs[k])
         raise UsageError(

@@ -210,7 +210,7 @@ class JointReadout:
         self._sensed = joint_sensor_indices(model, n_joints) if sea else None
         self.torque = data.actuator_force  # applied torque, for the energy count
         self._motor, self._joint_speed = data.act, data.qvel[6:]
-        self._last_motor = np.zeros(n_joints)
+        self._last_motor, self._moved = np.zeros(n_joints), np.zeros(n_joints)
 
     def begin_step(self) -> None:
         """Mark the motors' angles where a step starts (for :meth:`work`)."""
@@ -224,9 +224,10 @@ class JointReadout:
         the servo, |torque| times the joint's speed now, times ``dt``."""
         if not self.sea:
             return float(np.abs(self.torque) @ np.abs(self._joint_speed)) * dt
-        moved = np.abs(self._motor - self._last_motor)
+        moved = self._moved
+        np.subtract(self._motor, self._last_motor, out=moved)
         self._last_motor[:] = self._motor
-        return float(np.abs(self.torque) @ moved)
+        return float(np.abs(self.torque) @ np.abs(moved, out=moved))
 
     def observe(self, stiffness: float) -> np.ndarray:
         """Joint angles, velocities and torques, ``3 n`` values (``stiffness``: the spring's)."""

@@ -66,14 +66,22 @@ class BodyRoll:
     """
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, n_modules: int) -> None:
-        self._bodies = np.array([model.body(link_name(k)).id for k in range(n_modules)])
-        self._shells = np.array([model.geom(shell_name(k)).id for k in range(n_modules)])
+        self._bodies = _span([model.body(link_name(k)).id for k in range(n_modules)])
+        self._shells = _span([model.geom(shell_name(k)).id for k in range(n_modules)])
         self._xmat, self._geom_xpos = data.xmat, data.geom_xpos
 
     def angles(self) -> np.ndarray:
         """Roll of every module (head first), rad in ``(-pi, pi]``."""
         frames = self._xmat[self._bodies].reshape(-1, 3, 3)
         return link_roll_angles(frames, self._geom_xpos[self._shells])
+
+
+def _span(ids: list[int]) -> slice | np.ndarray:
+    """Consecutive ids (the builder numbers the modules so) as a slice, whose rows a view reads
+    without copying; any others as an index array."""
+    if ids == list(range(ids[0], ids[0] + len(ids))):
+        return slice(ids[0], ids[0] + len(ids))
+    return np.array(ids)
 
 
 @dataclass
@@ -95,12 +103,14 @@ class RollSpan:
 
     def update(self, angles: np.ndarray) -> float:
         """Add a sample; return the growth of the mean span over modules (rad, >= 0)."""
-        before = float(np.mean(self.high - self.low))
+        # sum / n: np.mean's own arithmetic, without its per-call overhead
+        n = len(self.high)
+        before = float((self.high - self.low).sum()) / n
         step = (angles - self.unwrapped + np.pi) % (2.0 * np.pi) - np.pi
         self.unwrapped += step
         np.minimum(self.low, self.unwrapped, out=self.low)
         np.maximum(self.high, self.unwrapped, out=self.high)
-        return float(np.mean(self.high - self.low)) - before
+        return float((self.high - self.low).sum()) / n - before
 
     @property
     def span_deg(self) -> np.ndarray:
@@ -110,7 +120,7 @@ class RollSpan:
     @property
     def body_rolls(self) -> float:
         """Net turns of the body about its own axis since the start (mean over modules)."""
-        return float(np.mean(self.unwrapped - self.start) / (2.0 * np.pi))
+        return float((self.unwrapped - self.start).sum() / len(self.start) / (2.0 * np.pi))
 
 
 def rolled(span_deg: float, roll_limit: float | None) -> bool:

@@ -9,8 +9,10 @@ from importlib import resources
 from pathlib import Path
 
 RECIPE_FILE = "ppo.yml"
-POLICIES = ("acl_climb_ppo", "acl_climb_noroll_ppo")
-DEFAULT_POLICY = "acl_climb_ppo"
+# The ACL policy on the SEA (ACLClimb-v3, the default), on the servo (ACLClimb-v2), and the
+# non-rolling policy (ACLClimbNoRoll-v4).
+POLICIES = ("acl_climb_sea_ppo", "acl_climb_ppo", "acl_climb_noroll_ppo")
+DEFAULT_POLICY = "acl_climb_sea_ppo"
 
 
 def data_path(*parts: str) -> Path:

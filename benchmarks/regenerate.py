@@ -31,6 +31,7 @@ REPO = Path(__file__).resolve().parent.parent
 DOCS = Path("docs")
 RECORD_FILE = DOCS / "records.json"
 NOROLL_POLICY = "acl_env/data/policies/acl_climb_noroll_ppo"
+SERVO_POLICY = "acl_env/data/policies/acl_climb_ppo"
 
 
 @dataclass(frozen=True)
@@ -50,6 +51,11 @@ RECORDS: dict[str, Record] = {
     "eval": Record(
         ("docs/eval.json", "docs/eval.png"),
         "acl-evaluate --json docs/eval.json --plot docs/eval.png --markdown",
+    ),
+    "eval_servo": Record(
+        ("docs/eval_servo.json", "docs/eval_servo.png"),
+        f"acl-evaluate --policy {SERVO_POLICY} --json docs/eval_servo.json"
+        " --plot docs/eval_servo.png --markdown",
     ),
     "eval_noroll": Record(
         ("docs/eval_noroll.json",),

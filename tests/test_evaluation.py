@@ -567,7 +567,7 @@ def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
     """Committed evaluation JSONs must not name the folder of the machine that wrote them."""
     from acl_env.evaluation.baselines import DEFAULT_POLICY, DEFAULT_TUNED_GAITS, shown_path
 
-    assert shown_path(DEFAULT_POLICY) == "acl_env/data/policies/acl_climb_ppo"
+    assert shown_path(DEFAULT_POLICY) == "acl_env/data/policies/acl_climb_sea_ppo"
     _, note = baselines.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
     assert note.startswith("acl_env/data/tuned_gaits.json: 'acl'"), note
     assert shown_path(tmp_path / "policy") == str(tmp_path / "policy")  # outside: as given

@@ -33,7 +33,11 @@ def test_shipped_acl_policy_replays_its_published_evaluation(name: str) -> None:
         assert metrics[metric] == pytest.approx(expected, rel=1e-3), (name, metric)
 
 
-PUBLISHED = {"acl_climb_ppo": "eval.json", "acl_climb_noroll_ppo": "eval_noroll.json"}
+PUBLISHED = {
+    "acl_climb_sea_ppo": "eval.json",
+    "acl_climb_ppo": "eval_servo.json",
+    "acl_climb_noroll_ppo": "eval_noroll.json",
+}
 
 
 @pytest.mark.replay

@@ -21,6 +21,7 @@ from acl_env import (
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_NOROLL_V2_ID,
+    ACL_CLIMB_SEA_ID,
     NOROLL_KWARGS,
     ROLLING_HELIX_CLIMB_ID,
     evaluation,
@@ -220,7 +221,11 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
 
 @pytest.mark.parametrize(
     ("env_id", "policy"),
-    [(ACL_ID, "acl_climb_ppo"), (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo")],
+    [
+        (ACL_ID, "acl_climb_ppo"),
+        (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo"),
+        (ACL_CLIMB_SEA_ID, "acl_climb_sea_ppo"),
+    ],
 )
 def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, policy: str) -> None:
     """Each shipped policy comes from its ppo.yml entry: the recipe its metadata records must be

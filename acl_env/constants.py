@@ -21,7 +21,7 @@ DEFAULT_N_JOINTS = 20
 # -- the scene --------------------------------------------------------------------------------
 DEFAULT_POLE_RADIUS = 0.075  # m
 DEFAULT_FRICTION = 1.0  # sliding friction of the snake's skin and the pole
-DEFAULT_KP = 20.0  # N m/rad: servo stiffness standing in for the series spring
+DEFAULT_KP = 20.0  # N m/rad: the ideal servo's stiffness (actuator_model='servo')
 
 # -- time ---------------------------------------------------------------------------------------
 CONTROL_DT = 0.1  # s: one gait keyframe per control step, 10 Hz as on the robot

@@ -93,6 +93,10 @@ RECORDS: dict[str, Record] = {
         "python benchmarks/sea_vs_servo.py --json docs/sea_vs_servo.json"
         " --plot docs/sea_vs_servo.png",
     ),
+    "two_hinge": Record(
+        ("docs/two_hinge.json",),
+        "python benchmarks/two_hinge.py --seeds 5 --json docs/two_hinge.json",
+    ),
     "fidelity_sea": Record(
         ("docs/fidelity_sea.json", "docs/fidelity_sea.png"),
         'python benchmarks/fidelity.py --actuator-model sea --settings "1 ms" "2 ms (v0)"'

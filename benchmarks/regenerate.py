@@ -30,7 +30,8 @@ from acl_env.scripts import make_parser, write_output
 REPO = Path(__file__).resolve().parent.parent
 DOCS = Path("docs")
 RECORD_FILE = DOCS / "records.json"
-NOROLL_POLICY = "acl_env/data/policies/acl_climb_noroll_ppo"
+NOROLL_POLICY = "acl_env/data/policies/acl_climb_noroll_ppo"  # the servo's (arc, video)
+NOROLL_SEA_POLICY = "acl_env/data/policies/acl_climb_noroll_sea_ppo"
 SERVO_POLICY = "acl_env/data/policies/acl_climb_ppo"
 
 
@@ -59,7 +60,11 @@ RECORDS: dict[str, Record] = {
     ),
     "eval_noroll": Record(
         ("docs/eval_noroll.json",),
-        f"acl-evaluate --policy {NOROLL_POLICY} --json docs/eval_noroll.json --markdown",
+        f"acl-evaluate --policy {NOROLL_SEA_POLICY} --json docs/eval_noroll.json --markdown",
+    ),
+    "eval_noroll_servo": Record(
+        ("docs/eval_noroll_servo.json",),
+        f"acl-evaluate --policy {NOROLL_POLICY} --json docs/eval_noroll_servo.json --markdown",
     ),
     "eval_open_loop": Record(
         ("docs/eval_open_loop.json",),

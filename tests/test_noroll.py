@@ -26,6 +26,7 @@ from acl_env.evaluation import run_episode, summarize, zero_policy
 EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
 TUNED_GAITS = tuned_gaits.shipped_path()
 SHIPPED_NOROLL = shipped.policy_dir("acl_climb_noroll_ppo")
+SHIPPED_NOROLL_SEA = shipped.policy_dir("acl_climb_noroll_sea_ppo")
 # The tuned-gaits files of the non-rolling studies (experiments/<topic>/tuned_gaits_*.json).
 CLIMB_GAITS = EXPERIMENTS / "noroll_climb_gait" / "tuned_gaits_noroll_climb.json"
 POLE065_GAITS = EXPERIMENTS / "noroll_v3" / "tuned_gaits_noroll_climb_pole065.json"
@@ -447,7 +448,8 @@ def test_pole_sweep_has_one_cell_per_radius_and_plots_each_controller(tmp_path: 
 @pytest.mark.parametrize(
     ("folder", "record_path", "gait"),
     [
-        (SHIPPED_NOROLL, Path("docs") / "eval_noroll.json", "open_loop_acl"),
+        (SHIPPED_NOROLL_SEA, Path("docs") / "eval_noroll.json", "open_loop_acl"),
+        (SHIPPED_NOROLL, Path("docs") / "eval_noroll_servo.json", "open_loop_acl"),
         # the policy shipped until v3: on v2, with v3's gait as env kwargs
         (
             EXPERIMENTS / "noroll_v2_gait" / "noroll_v2_gait",
@@ -464,7 +466,7 @@ def test_pole_sweep_has_one_cell_per_radius_and_plots_each_controller(tmp_path: 
             for seed in (1, 2)
         ),
     ],
-    ids=["shipped", "v2_gait", "seed1", "seed2"],
+    ids=["shipped", "shipped_servo", "v2_gait", "seed1", "seed2"],
 )
 def test_noroll_policy_replays_its_published_evaluation(
     folder: Path, record_path: Path, gait: str

@@ -20,6 +20,11 @@ ACL_ROWS = {
     "rolling helix": "open_loop_rolling_helix",
 }
 ACL_COLUMNS = [("climb_per_gait_cycle_m", 100, 2), ("slip_per_m", 1, 3), ("energy_per_m", 1, 0)]
+NOROLL_ROWS = {
+    "residual PPO (shipped)": "policy",
+    "tuned non-rolling ACL (its gait)": "open_loop_tuned",
+    "rolling helix (rolls: 360° of skin touched)": "open_loop_rolling_helix",
+}
 ROWS = {
     "eval_servo.json": ACL_ROWS,
     "eval.json": {
@@ -29,6 +34,7 @@ ROWS = {
         "ACL, the paper's default gait": "open_loop_acl",
         "rolling helix": "open_loop_rolling_helix",
     },
+    "eval_noroll_servo.json": NOROLL_ROWS,
     "eval_noroll.json": {
         "residual PPO (shipped)": "policy",
         "tuned non-rolling ACL (its gait)": "open_loop_tuned",
@@ -42,6 +48,12 @@ COLUMNS = {
         ("climb_per_gait_cycle_m", 100, 2),
         ("slip_per_m", 1, 3),
         ("energy_per_m", 1, 0),
+    ],
+    "eval_noroll_servo.json": [
+        ("climb_per_gait_cycle_m", 100, 2),
+        ("slip_per_m", 1, 2),
+        ("energy_per_m", 1, 0),
+        ("touched_arc_deg", 1, None),
     ],
     "eval_noroll.json": [
         ("climb_per_gait_cycle_m", 100, 2),
@@ -74,7 +86,8 @@ def _table_rows(text: str, header: str) -> dict[str, list[str]]:
     [
         ("eval.json", "acl_env/ACLClimb-v3"),
         ("eval_servo.json", "acl_env/ACLClimb-v2"),
-        ("eval_noroll.json", "acl_env/ACLClimbNoRoll-v4"),
+        ("eval_noroll.json", "acl_env/ACLClimbNoRoll-v5"),
+        ("eval_noroll_servo.json", "acl_env/ACLClimbNoRoll-v4"),
     ],
 )
 def test_readme_results_table_is_its_record(record_name: str, header: str) -> None:

@@ -36,7 +36,8 @@ def test_shipped_acl_policy_replays_its_published_evaluation(name: str) -> None:
 PUBLISHED = {
     "acl_climb_sea_ppo": "eval.json",
     "acl_climb_ppo": "eval_servo.json",
-    "acl_climb_noroll_ppo": "eval_noroll.json",
+    "acl_climb_noroll_sea_ppo": "eval_noroll.json",
+    "acl_climb_noroll_ppo": "eval_noroll_servo.json",
 }
 
 

@@ -49,6 +49,11 @@ CONTROL_LATENCY = 0.01  # s
 SENSOR_LATENCY = 0.005  # s
 # Not published: a 12-bit absolute encoder across the spring (0.0015 rad, 0.03 N m at 20 N m/rad).
 DEFLECTION_RESOLUTION = 2.0 * math.pi / 4096  # rad per count
+# The two-hinge candidate of benchmarks/step_response.py and two_hinge.py (not the shipped model):
+# not published, about 3e-7 kg m^2 of rotor through the 349:1 gearbox of HEBI's SEA snake gain
+# files, and a motor position loop 10x the spring.
+ROTOR_INERTIA = 3e-7 * 349**2  # kg m^2 at the joint
+MOTOR_KP = 200.0  # N m/rad
 # Accepted ranges of the arguments (envs/arguments.py checks them by name).
 SPRING_STIFFNESS_RANGE = (1.0, 200.0)  # N m/rad: below 1 the snake cannot lift its own modules
 MOTOR_SPEED_LIMIT_RANGE = (0.1, 100.0)  # rad/s
@@ -207,7 +212,10 @@ class JointReadout:
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, n_joints: int, sea: bool):
         self.sea, self.n = sea, n_joints
         self._data = data
-        self._sensed = joint_sensor_indices(model, n_joints) if sea else None
+        sensed = joint_sensor_indices(model, n_joints) if sea else None
+        if sensed is not None and (np.diff(sensed) == 1).all():  # added in order: one view
+            sensed = slice(int(sensed[0]), int(sensed[-1]) + 1)
+        self._sensed = sensed
         self.torque = data.actuator_force  # applied torque, for the energy count
         self._motor, self._joint_speed = data.act, data.qvel[6:]
         self._last_motor, self._moved = np.zeros(n_joints), np.zeros(n_joints)
@@ -234,7 +242,7 @@ class JointReadout:
         data = self._data
         if self._sensed is None:
             return np.concatenate((data.qpos[7:], data.qvel[6:], data.actuator_force))
-        out = data.sensordata[self._sensed]
+        out = data.sensordata[self._sensed].copy()  # (a slice is a view of MuJoCo's buffer)
         out[2 * self.n :] = read_torque(out[2 * self.n :], stiffness)
         return out
 

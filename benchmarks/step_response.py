@@ -32,10 +32,7 @@ from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 
 LOAD_MASS = 3 * 0.205  # kg: three modules
 LOAD_LENGTH = 3 * 0.0639  # m
-# Not published: about 3e-7 kg m^2 of rotor through the 349:1 gearbox of HEBI's SEA snake gain
-# files (HebiRobotics/hebi-matlab-examples, setSEASnakeGains_Default.m).
-ROTOR_INERTIA = 3e-7 * 349**2  # kg m^2 at the joint
-MOTOR_KP = 200.0  # N m/rad: the two-hinge motor's position loop, 10x the spring
+ROTOR_INERTIA, MOTOR_KP = actuators.ROTOR_INERTIA, actuators.MOTOR_KP  # the two-hinge candidate
 STEP_TIME = 0.05  # s
 CANDIDATES = ("servo", "sea", "sea_two_hinge")
 

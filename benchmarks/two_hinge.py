@@ -4,7 +4,8 @@
 
 The two-hinge candidate gives every motor its own degree of freedom: a second hinge on each
 joint's axis, in the same link, carries the rotor inertia reflected through the gearbox
-(``step_response.ROTOR_INERTIA``) and is driven by a stiff PID actuator (``MOTOR_KP``, critically
+(``acl_env.actuators.ROTOR_INERTIA``) and is driven by a stiff PID actuator (``MOTOR_KP``,
+critically
 damped) with the same slew limit, ±7 N m and command latency; the original hinge becomes the
 spring (joint stiffness ``spring_stiffness``, the SEA's damping). The link turns by the motor's
 angle plus the spring's deflection.
@@ -33,8 +34,7 @@ from acl_env.evaluation.protocol import mean_ci95
 from acl_env.model import build_spec, snake_geom_ids
 from acl_env.scripts import make_parser, write_output
 
-ROTOR_INERTIA = 3e-7 * 349**2  # kg m^2 at the joint (as benchmarks/step_response.py)
-MOTOR_KP = 200.0  # N m/rad
+ROTOR_INERTIA, MOTOR_KP = sea.ROTOR_INERTIA, sea.MOTOR_KP  # the two-hinge candidate
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (paper)": (ACL_CLIMB_ID, {}),
     "tuned ACL on the SEA (acl_sea)": (ACL_CLIMB_ID, {"tuned_gait": "acl_sea"}),

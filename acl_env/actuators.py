@@ -216,6 +216,11 @@ class JointReadout:
         if sensed is not None and (np.diff(sensed) == 1).all():  # added in order: one view
             sensed = slice(int(sensed[0]), int(sensed[-1]) + 1)
         self._sensed = sensed
+        self._torque_view = None  # the spring torques' part of it
+        if isinstance(sensed, slice):
+            self._torque_view = slice(sensed.start + 2 * n_joints, sensed.stop)
+        elif sensed is not None:
+            self._torque_view = sensed[2 * n_joints :]
         self.torque = data.actuator_force  # applied torque, for the energy count
         self._motor, self._joint_speed = data.act, data.qvel[6:]
         self._last_motor, self._moved = np.zeros(n_joints), np.zeros(n_joints)
@@ -236,6 +241,13 @@ class JointReadout:
         np.subtract(self._motor, self._last_motor, out=moved)
         self._last_motor[:] = self._motor
         return float(np.abs(self.torque) @ np.abs(moved, out=moved))
+
+    def read_torque(self, stiffness: float) -> np.ndarray:
+        """The spring torques (N m) as the joints read them now (:func:`read_torque`, the
+        sensors' ``sensor_latency`` late); the servo's output torques."""
+        if self._torque_view is None:
+            return self.torque.copy()
+        return read_torque(self._data.sensordata[self._torque_view], stiffness)
 
     def observe(self, stiffness: float) -> np.ndarray:
         """Joint angles, velocities and torques, ``3 n`` values (``stiffness``: the spring's)."""

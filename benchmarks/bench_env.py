@@ -32,7 +32,7 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_BENCHMARK_ID, ACL_CLIMB_ID, ACL_CLIMB_SEA_ID
 from acl_env.constants import PHYSICS_TIMESTEP
-from acl_env.envs.acl_climb import SLIP_SAMPLES
+from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.scripts import make_parser, save_figure, timed_steps, use_agg, write_outputs
 
 V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids

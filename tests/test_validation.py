@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from acl_env import actuators
 from acl_env.constants import CONTROL_DT, DEFAULT_KP
 from acl_env.envs import ACLClimbEnv
-from acl_env.envs.acl_climb import (
+from acl_env.envs.arguments import (
     CYCLES_PER_EPISODE_RANGE,
     FALL_DISTANCE_MAX,
     FRICTION_MAX,
@@ -26,11 +26,11 @@ from acl_env.envs.acl_climb import (
     N_JOINTS_RANGE,
     POLE_RADIUS_RANGE,
     RESIDUAL_SCALE_MAX,
-    SLIP_SAMPLES,
     SQUEEZE_RANGE,
     STEPS_PER_CYCLE_RANGE,
     TIMESTEP_RANGE,
 )
+from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.envs.modulation import MODULATED_PARAMETERS, SECTIONS_RANGE
 from acl_env.envs.randomize import (
     DEFAULT_RANDOMIZATION,

@@ -28,9 +28,10 @@ from acl_env.constants import (
 )
 from acl_env.envs import arguments, modulation, termination
 from acl_env.envs.arguments import GAITS, check_arguments, check_camera, gait_kwargs_at, squeeze_at
-from acl_env.envs.contacts import SLIP_SAMPLES, ContactSampler
+from acl_env.envs.contacts import ContactSampler
+from acl_env.envs.grip import GRIP_RANGE, GripController
 from acl_env.envs.lifecycle import LifecycleMixin
-from acl_env.envs.modulation import interpolate_offsets, offset_tables, table_radius
+from acl_env.envs.modulation import offset_tables, table_radius
 from acl_env.envs.pickling import MujocoPickleMixin
 from acl_env.envs.randomize import (
     DEFAULT_RANDOMIZATION,
@@ -42,6 +43,7 @@ from acl_env.envs.randomize import (
 )
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, StepMeasures, reward_terms
 from acl_env.envs.start import RAMP_TIME, placed_qpos, ramp_in
+from acl_env.envs.stepping import StepPhysics
 from acl_env.gait import Gait
 from acl_env.model import assets_dir, build_model, sensor_indices
 
@@ -231,6 +233,10 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         motor_speed_limit: float | None = None,
         control_latency: float | None = None,
         sensor_latency: float | None = None,
+        grip_target: float | None = None,
+        grip_gain: float | None = None,
+        grip_leak: float | None = None,
+        grip_action_scale: float | None = None,
     ) -> None:
         raw = dict(locals())  # the arguments, exactly as passed
         del raw["self"]
@@ -242,7 +248,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
 
         self.gait = self._make_gait(self.pole_radius)
         n = self.n_joints
-        obs_size = 4 * n + 9 + (6 if self.privileged_obs else 0)
+        n_grip = self.modulation_sections if self.grip_target is not None else 0
+        obs_size = 4 * n + 9 + (6 if self.privileged_obs else 0) + 2 * n_grip
         observation_space = spaces.Box(-np.inf, np.inf, shape=(obs_size,), dtype=np.float64)
         MujocoEnv.__init__(
             self,
@@ -256,8 +263,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         )
         check_camera(self.model, camera_name)
         n_modulation = len(self._modulated) * self.modulation_sections
-        self._rate_index = n + n_modulation  # the cadence action, when there is one
-        n_actions = n + n_modulation + (self.phase_rate_range is not None)
+        n_targets = n_grip if self.grip_action_scale else 0  # grip targets, after modulation
+        self._rate_index = n + n_modulation + n_targets  # the cadence action, when there is one
+        n_actions = self._rate_index + (self.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         elements = self._elements = RandomizedElements.of(self.model, n)
         sea = self.actuator_model == "sea"
@@ -267,6 +275,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._readout = JointReadout(self.model, self.data, n, sea)
         self._stiffness = self.spring_stiffness if sea else self.kp  # of this episode
         self._contacts = ContactSampler(self.model, elements.snake_geoms, elements.pole_geom)
+        grip = (self._section_weights, self.grip_target, self.grip_gain, self.grip_leak)
+        self._grip = GripController(*grip) if n_grip else None  # the 100 Hz loop, envs/grip.py
+        self._physics = StepPhysics(self, self._contacts, self._readout)
         self._root_body = elements.snake_bodies[0]
         # Views into MjData made once: each attribute access of MjData builds a new array view.
         data = self.data
@@ -329,6 +340,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self.gait = self._make_gait(pole_radius)
         self._table = self._gait_table()
         self._offset_tables = self._gait_offset_tables(pole_radius)
+        if self._grip is not None:
+            self._grip.reset(self.gait, tuple(sorted(self._gait_kwargs(pole_radius).items())))
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
         self._step_count = 0
@@ -368,23 +381,13 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         target = np.minimum(np.maximum(base + residual, -JOINT_LIMIT), JOINT_LIMIT)
         rate = self._phase_rate(action)
         phase = self._keyframe / self.steps_per_cycle
-
-        model, data = self.model, self.data
+        if self._grip is not None and self.grip_action_scale:  # the sections' grip targets
+            a = action[self._rate_index - self.modulation_sections : self._rate_index]
+            self._grip.target = self.grip_target + self.grip_action_scale * a
         com_before = float(self._com_view[2])
         self._stability.start()
-        data.ctrl[:] = target
-        substeps = self.frame_skip // SLIP_SAMPLES
-        sample_dt = substeps * model.opt.timestep
-        (readout := self._readout).begin_step()
-        slip = energy = 0.0
-        touched = grounded = False
-        for _ in range(SLIP_SAMPLES):
-            mujoco.mj_step(model, data, nstep=substeps)
-            speed, on_pole, on_floor = self._contacts.sample(data)
-            slip += speed * sample_dt
-            touched |= on_pole
-            grounded |= on_floor
-            energy += readout.work(sample_dt)
+        run = self._physics.run(target, int(self._keyframe), self._stiffness, self._grip)
+        slip, touched, grounded, energy = run
         self._step_count += 1
         self._keyframe = (self._keyframe + rate) % self.steps_per_cycle
 
@@ -434,18 +437,11 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         return (1.0 - frac) * self._table[k] + frac * self._table[(k + 1) % self.steps_per_cycle]
 
     def _modulation(self, action: np.ndarray) -> np.ndarray:
-        """Change of the joint targets (rad) by the per-section parameter offsets: the gait's
-        own tables with the offsets applied, less the base (envs/modulation.py)."""
-        n, n_params = self.n_joints, len(self._modulated)
-        a = action[n : self._rate_index].reshape(n_params, self.modulation_sections)
+        """Change of the joint targets (rad) by the per-section parameter offsets."""
+        n, sections = self.n_joints, self.modulation_sections
+        a = action[n : n + len(self._modulated) * sections].reshape(-1, sections)
         offsets = a @ self._section_weights.T  # (P, n), in units of each parameter's scale
-        k = int(self._keyframe)
-        frac = self._keyframe - k
-        change = interpolate_offsets(self._offset_tables, k, offsets)
-        if frac != 0.0:
-            nxt = interpolate_offsets(self._offset_tables, (k + 1) % self.steps_per_cycle, offsets)
-            change = (1.0 - frac) * change + frac * nxt
-        return change
+        return modulation.keyframe_change(self._offset_tables, self._keyframe, offsets)
 
     def _phase_rate(self, action: np.ndarray) -> float:
         """Keyframes the gait advances this step: 1, or set by the last action (PMTG option)."""
@@ -462,10 +458,12 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     @property
     def action_names(self) -> tuple[str, ...]:
         """What each action entry drives, in order (``envs/modulation.py``)."""
-        cadence = self.phase_rate_range is not None
-        return modulation.action_names(
-            self.n_joints, self._modulated, self.modulation_sections, cadence
+        cadence, targets = self.phase_rate_range is not None, bool(self.grip_action_scale)
+        names = modulation.action_names(
+            self.n_joints, self._modulated, self.modulation_sections, False
         )
+        grip = [f"grip_section_{s}" for s in range(self.modulation_sections)] if targets else []
+        return names + tuple(grip) + (("cadence",) if cadence else ())
 
     def _get_obs(self) -> np.ndarray:
         data = self.data
@@ -476,6 +474,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             [math.cos(angle), math.sin(angle)],
             self._base_target(),
         ]
+        if self._grip is not None:  # the controller's state: section offsets (of the range), N
+            parts += [self._grip.offset * (1.0 / GRIP_RANGE), self._grip.force]
         if self.privileged_obs:
             mujoco.mj_subtreeVel(self.model, data)
             parts += [self._com(), data.subtree_linvel[self._root_body]]

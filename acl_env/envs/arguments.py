@@ -42,6 +42,15 @@ from acl_env.constants import (
     SEA_MODULE_RADIUS,
 )
 from acl_env.envs.contacts import SLIP_SAMPLES
+from acl_env.envs.grip import (
+    GRIP_ACTION_SCALE_MAX,
+    GRIP_GAIN,
+    GRIP_GAIN_RANGE,
+    GRIP_LEAK,
+    GRIP_LEAK_RANGE,
+    GRIP_TARGET_RANGE,
+    check_ticks,
+)
 from acl_env.envs.lifecycle import check_display
 from acl_env.envs.modulation import (
     DEFAULT_SECTIONS,
@@ -129,6 +138,10 @@ class EnvArguments:
     control_latency: float | None
     sensor_latency: float | None
     actuators: ActuatorConfig
+    grip_target: float | None
+    grip_gain: float | None
+    grip_leak: float | None
+    grip_action_scale: float | None
 
 
 def squeeze_at(squeeze: float, squeeze_slope: float, pole_radius: float) -> float:
@@ -188,6 +201,10 @@ def check_arguments(
     motor_speed_limit: object = None,
     control_latency: object = None,
     sensor_latency: object = None,
+    grip_target: object = None,
+    grip_gain: object = None,
+    grip_leak: object = None,
+    grip_action_scale: object = None,
     render_modes: tuple[str, ...],
 ) -> EnvArguments:
     """Every constructor argument checked, in the constructor's order (the first bad one raises);
@@ -274,6 +291,11 @@ def check_arguments(
     if modulation and GAITS[base_gait] is None:
         raise ValueError("gait_modulation needs a base gait to modulate, got base_gait='none'")
     timestep, frame_skip = _timestep(timestep)
+    grip = _grip_options(
+        grip_target, grip_gain, grip_leak, grip_action_scale, actuator_model, base_gait
+    )
+    if grip:
+        check_ticks(frame_skip)
     config = ActuatorConfig(
         model=actuator_model,
         spring_stiffness=sea.get("spring_stiffness", actuators.SPRING_STIFFNESS),
@@ -315,6 +337,10 @@ def check_arguments(
         control_latency=sea.get("control_latency"),
         sensor_latency=sea.get("sensor_latency"),
         actuators=config,
+        grip_target=grip.get("grip_target"),
+        grip_gain=grip.get("grip_gain"),
+        grip_leak=grip.get("grip_leak"),
+        grip_action_scale=grip.get("grip_action_scale"),
     )
 
 
@@ -363,6 +389,46 @@ def _sea_options(
     return {
         name: check_range(name, defaults[name] if value is None else value, *ranges[name])
         for name, value in given.items()
+    }
+
+
+def _grip_options(
+    target: object,
+    gain: object,
+    leak: object,
+    action_scale: object,
+    actuator_model: str,
+    base_gait: str,
+) -> dict[str, float]:
+    """The compliant grip's options (``envs/grip.py``), checked; empty when ``grip_target`` is
+    None. It reads the springs, so it needs the SEA, and adapts a gait's squeeze."""
+    if target is None:
+        options = (("grip_gain", gain), ("grip_leak", leak), ("grip_action_scale", action_scale))
+        for name, value in options:
+            if value is not None:
+                raise ValueError(f"{name} needs grip_target (the compliant grip), got None")
+        return {}
+    if actuator_model != "sea":
+        raise ValueError(
+            f"grip_target needs actuator_model='sea' (the springs measure the grip), "
+            f"got {actuator_model!r}"
+        )
+    if GAITS[base_gait] is None:
+        raise ValueError("grip_target needs a base gait to adapt, got base_gait='none'")
+    return {
+        "grip_target": check_range("grip_target", target, *GRIP_TARGET_RANGE),
+        "grip_gain": check_range(
+            "grip_gain", GRIP_GAIN if gain is None else gain, *GRIP_GAIN_RANGE
+        ),
+        "grip_leak": check_range(
+            "grip_leak", GRIP_LEAK if leak is None else leak, *GRIP_LEAK_RANGE
+        ),
+        "grip_action_scale": check_range(
+            "grip_action_scale",
+            0.0 if action_scale is None else action_scale,
+            0.0,
+            GRIP_ACTION_SCALE_MAX,
+        ),
     }
 
 

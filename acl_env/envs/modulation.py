@@ -130,6 +130,18 @@ def interpolate_offsets(tables: np.ndarray, k: int, offsets: np.ndarray) -> np.n
     return value.sum(axis=0)
 
 
+def keyframe_change(tables: np.ndarray, keyframe: float, offsets: np.ndarray) -> np.ndarray:
+    """:func:`interpolate_offsets` at a fractional ``keyframe``: linear between the two keyframes
+    around it (the gait's phase between table rows when the cadence is modulated)."""
+    k, steps = int(keyframe), tables.shape[2]
+    frac = keyframe - k
+    change = interpolate_offsets(tables, k, offsets)
+    if frac != 0.0:
+        nxt = interpolate_offsets(tables, (k + 1) % steps, offsets)
+        change = (1.0 - frac) * change + frac * nxt
+    return change
+
+
 def _bounds(key: str, value: float, base: Mapping[str, Any]) -> tuple[float, float]:
     """Where an offset parameter stops: inside the range where the gait is defined (ACLGait:
     amplitudes >= 0, the radial one below the radius) with a margin, so that an offset never

@@ -12,7 +12,10 @@ On the series elastic snake (``actuator_model="sea"``: motors with a speed limit
 through torsional springs, commands and sensors arrive late; :mod:`acl_env.actuators`):
 
 * ``acl_env/ACLClimb-v3``: ACLClimb-v2's task on the SEA;
-* ``acl_env/ACLClimbNoRoll-v5``: ACLClimbNoRoll-v4's task on the SEA.
+* ``acl_env/ACLClimbNoRoll-v5``: ACLClimbNoRoll-v4's task on the SEA;
+* ``acl_env/ACLClimbCompliant-v1``: ACLClimb-v3's task on the compliant ACL controller (the
+  gait's squeeze adapted per body section at 100 Hz to the spring torques,
+  :mod:`acl_env.envs.grip`), with one more action per section setting its grip target.
 
 The environments they build on, and those earlier results are published for:
 
@@ -34,6 +37,7 @@ from acl_env.pretrained import list_policies, load_policy
 __version__ = "0.1.0"
 __all__ = [
     "ACL_CLIMB_BENCHMARK_ID",
+    "ACL_CLIMB_COMPLIANT_ID",
     "ACL_CLIMB_ID",
     "ACL_CLIMB_NOROLL_BENCHMARK_ID",
     "ACL_CLIMB_NOROLL_ID",
@@ -42,6 +46,7 @@ __all__ = [
     "ACL_CLIMB_SEA_ID",
     "BENCHMARK_BASES",
     "BENCHMARK_KWARGS",
+    "COMPLIANT_KWARGS",
     "NOROLL_BENCHMARK_KWARGS",
     "NOROLL_KWARGS",
     "NOROLL_SEA_KWARGS",
@@ -60,6 +65,7 @@ ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRoll-v3"
 ACL_CLIMB_NOROLL_V2_ID = "acl_env/ACLClimbNoRoll-v2"
 ACL_CLIMB_SEA_ID = "acl_env/ACLClimb-v3"
 ACL_CLIMB_NOROLL_SEA_ID = "acl_env/ACLClimbNoRoll-v5"
+ACL_CLIMB_COMPLIANT_ID = "acl_env/ACLClimbCompliant-v1"
 
 # The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
 # the open-loop tuner's best for this task's reward, entry "acl_noroll" of the shipped tuned gaits
@@ -109,6 +115,7 @@ BENCHMARK_BASES = {
     ACL_CLIMB_NOROLL_BENCHMARK_ID: ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_SEA_ID: ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_SEA_ID: ACL_CLIMB_NOROLL_ID,
+    ACL_CLIMB_COMPLIANT_ID: ACL_CLIMB_ID,
 }
 # The SEA tasks: the servo benchmark tasks with the series elastic actuators, each on the gait
 # the tuner found best on the SEA for its reward (entries "acl_sea", "acl_noroll_sea").
@@ -118,8 +125,14 @@ NOROLL_SEA_KWARGS = {
     **tuned_gaits.gait_shape("acl_noroll_sea"),
     "actuator_model": "sea",
 }
+# The compliant task: ACLClimb-v3 on the grip the tuner found best there for the same reward
+# (entry "acl_sea_grip", acl-tune-gait --grip), and one action per body section that moves the
+# section's grip target by up to 100 N (the sections' mean squeeze forces on the open loop span
+# 20-170 N).
+COMPLIANT_KWARGS = {**SEA_KWARGS, **tuned_gaits.grip("acl_sea_grip"), "grip_action_scale": 100.0}
 
 _ENVS = {
+    ACL_CLIMB_COMPLIANT_ID: COMPLIANT_KWARGS,
     ACL_CLIMB_SEA_ID: SEA_KWARGS,
     ACL_CLIMB_NOROLL_SEA_ID: NOROLL_SEA_KWARGS,
     ACL_CLIMB_BENCHMARK_ID: BENCHMARK_KWARGS,

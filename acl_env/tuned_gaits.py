@@ -11,7 +11,9 @@ its own (``runs/tuned_gaits.json`` unless told otherwise), never to the shipped 
 its path. Per entry:
 
 - ``env_id``, ``env_kwargs``: ``gymnasium.make(env_id, **env_kwargs)`` plays the tuned gait with a
-  zero action (``squeeze`` in m, ``gait_kwargs`` for :class:`acl_env.gait.ACLGait`);
+  zero action (``squeeze`` in m, ``gait_kwargs`` for :class:`acl_env.gait.ACLGait`); an entry
+  tuned with ``--grip`` holds the compliant grip instead (``grip_target``, ``grip_gain``,
+  ``grip_leak``: :mod:`acl_env.envs.grip`) on its env id's own gait;
 - ``objective``, ``reward_weights``: the metric optimised, under those reward weights;
 - ``seeds``, ``steps_per_cycle``, ``cycles_per_episode``: each trial's episodes;
 - ``condition`` (optional): env arguments every trial played under, such as ``{"friction": 0.5}``;
@@ -85,6 +87,13 @@ def gait_shape(key: str, path: str | Path | None = None) -> dict[str, Any]:
     """The env kwargs that make the env play entry ``key``'s gait: its squeeze and gait_kwargs."""
     kwargs = entry(key, path).get("env_kwargs") or {}
     return {k: _copy(v) for k, v in kwargs.items() if k in GAIT_SHAPE_KWARGS}
+
+
+def grip(key: str, path: str | Path | None = None) -> dict[str, Any]:
+    """The env kwargs of entry ``key``'s compliant grip (``acl-tune-gait --grip``): its
+    ``grip_target``, ``grip_gain`` and ``grip_leak``."""
+    kwargs = entry(key, path).get("env_kwargs") or {}
+    return {k: float(v) for k, v in kwargs.items() if k.startswith("grip_")}
 
 
 def resolve(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:

@@ -44,6 +44,7 @@ import gymnasium
 
 from acl_env import (
     ACL_CLIMB_BENCHMARK_ID,
+    ACL_CLIMB_COMPLIANT_ID,
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_BENCHMARK_ID,
     ACL_CLIMB_NOROLL_ID,
@@ -68,11 +69,17 @@ TRAINING_ONLY_KWARGS = ("domain_randomization",)
 # the env's default ACL gait and, separately, against the tuned one).
 GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze", "squeeze_slope")
 # Kwargs that only shape the policy's action: the open loops play a zero action without them.
-POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections")
+POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections", "grip_action_scale")
+# The compliant grip's (envs/grip.py): the open loops play without it, compliant_acl with the
+# grip tuned for the task.
+GRIP_KWARGS = ("grip_target", "grip_gain", "grip_leak")
 SAME_CADENCE = "open_loop_acl_same_cadence"
 POLICY_GAIT = "open_loop_policy_gait"
 TUNED_SAME_CADENCE = "open_loop_tuned_same_cadence"
-AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE)  # run after the policy, at its rate
+COMPLIANT = "compliant_acl"
+COMPLIANT_SAME_CADENCE = "compliant_acl_same_cadence"
+# Run after the policy, at its mean phase rate.
+AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE, COMPLIANT_SAME_CADENCE)
 
 TunedGaitsError = tuned_gaits.TunedGaitsError
 
@@ -158,6 +165,8 @@ TASKS: dict[str, TaskBaselines] = {
     ACL_CLIMB_NOROLL_SEA_ID: TaskBaselines(
         base_gait="acl", non_rolling=True, tuned_key="acl_noroll_sea"
     ),
+    # The compliant task: judged against the SEA's tuned open loop and compliant_acl.
+    ACL_CLIMB_COMPLIANT_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl_sea"),
 }
 # The tuned-gaits entry for a gait whose rolling is not its task's (a non-rolling gait given as
 # --env-kwargs to open-loop ACL), or on an env id TASKS does not list, per non-rolling flag.
@@ -324,7 +333,9 @@ def build_controllers(
     base.pop("reward_weights", None)
     if reward_weights is not None:
         base["reward_weights"] = dict(reward_weights)
-    open_loop = {k: v for k, v in base.items() if k not in POLICY_ACTION_KWARGS}
+    open_loop = {
+        k: v for k, v in base.items() if k not in POLICY_ACTION_KWARGS and k not in GRIP_KWARGS
+    }
     other_gait = {k: v for k, v in open_loop.items() if k not in GAIT_KWARGS}
     controllers, notes = [], []
     acl_kwargs = open_loop  # without a policy: the ACL env with --env-kwargs, gait kwargs included
@@ -381,4 +392,33 @@ def build_controllers(
                 notes.append(f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one")
             else:  # the best open loop at the policy's cadence
                 controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))
+        controllers += _compliant(tuned_path, tuned_key, tuned_id, kwargs, sets_cadence, notes)
     return controllers, notes
+
+
+def _compliant(
+    tuned_path: Path,
+    tuned_key: str | None,
+    env_id: str,
+    kwargs: dict[str, Any],
+    sets_cadence: bool,
+    notes: list[str],
+) -> list[Controller]:
+    """``compliant_acl``: the tuned open loop (``env_id``, ``kwargs``) with the compliant grip
+    tuned on it (entry ``<tuned key>_grip``), and the same at the policy's cadence; none, with a
+    note, off the SEA or without such an entry."""
+    key = f"{tuned_key}_grip"
+    if tuned_key is None or env_setting(env_id, kwargs, "actuator_model") != "sea":
+        notes.append(f"{COMPLIANT}: skipped, the compliant grip needs the SEA")
+        return []
+    try:
+        entry = tuned_gaits.entry(key, tuned_path)
+    except TunedGaitsError as error:
+        notes.append(f"{COMPLIANT}: skipped, {error}")
+        return []
+    grip = {k: v for k, v in (entry.get("env_kwargs") or {}).items() if k in GRIP_KWARGS}
+    notes.append(f"{COMPLIANT}: the grip {key!r}, best of {entry.get('trials', '?')} trials")
+    out = [Controller(COMPLIANT, env_id, {**kwargs, **grip})]
+    if sets_cadence:
+        out.append(Controller(COMPLIANT_SAME_CADENCE, env_id, {**kwargs, **grip}, phase_rate=1.0))
+    return out

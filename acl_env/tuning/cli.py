@@ -48,6 +48,7 @@ from acl_env.tuning.frontier import policy_point, render_frontier
 from acl_env.tuning.objective import DEFAULT_SEEDS, OBJECTIVES, TuneSettings
 from acl_env.tuning.space import (
     CONDITIONS,
+    GRIP_SPACE,
     UsageError,
     parse_condition,
     parse_space,
@@ -199,6 +200,12 @@ def make_parser() -> ArgumentParser:
         metavar="KEY",
         help="shipped tuned gaits a new study tries first (e.g. a gait tuned on other physics)",
     )
+    parser.add_argument(
+        "--grip",
+        action="store_true",
+        help="tune the compliant grip (grip_target, grip_gain, grip_leak) on the gait the SEA "
+        "env id plays, instead of the gait (trial 0: no gain, the open loop)",
+    )
     parser.add_argument("--sampler-seed", type=int_in(*SAMPLER_SEED_RANGE), default=None)
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
@@ -246,6 +253,12 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
     radii = condition.get("pole_radius", DEFAULT_POLE_RADIUS)
     # the thinnest pole leaves the least helix radius for the radial wave
     space = parse_space(args.space, min(radii) if isinstance(radii, list) else radii)
+    if args.grip:
+        for option, given in (("--space", args.space), ("--start-from", args.start_from)):
+            if given:
+                raise UsageError(option, "searches the gait; --grip holds the env's gait fixed")
+        _check_env(env_id, "--grip", grip_target=0.0)  # the SEA, and a gait to adapt
+        space = dict(GRIP_SPACE)
     settings = TuneSettings(
         env_id=env_id,
         objective=args.objective,
@@ -258,6 +271,7 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         max_touched_arc_deg=max_arc,
         space=space,
         condition=condition,
+        grip=args.grip,
     )
     for values in settings.conditions():  # the env checks the condition's values
         _check_env(env_id, "--condition", **values)
@@ -337,7 +351,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     if plot is not None:  # drawn before anything is written: a failure here writes nothing
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
         title = (
-            f"{key}: {entry['trials']} open-loop gaits on {settings.env_id}, {len(settings.seeds)}"
+            f"{key}: {entry['trials']} {'compliant grips' if settings.grip else 'open-loop gaits'}"
+            f" on {settings.env_id}, {len(settings.seeds)}"
             f" seeds each, {settings.steps_per_cycle} steps per gait cycle"
             f"\n{settings.objective} with reward weights {weights}"
         )

@@ -26,7 +26,13 @@ import optuna
 
 from acl_env import ACL_CLIMB_ID
 from acl_env.evaluation import METRICS, mean_ci95, run_episode, zero_policy
-from acl_env.tuning.space import ENV_PARAMS, SEARCH_SPACE, ParamRange
+from acl_env.tuning.space import (
+    DEFAULT_PARAMS,
+    ENV_PARAMS,
+    GRIP_DEFAULT_PARAMS,
+    SEARCH_SPACE,
+    ParamRange,
+)
 from acl_env.tuning.stop import stop_point
 
 DEFAULT_SEEDS = (0, 1, 2)
@@ -54,6 +60,7 @@ class TuneSettings:
     max_touched_arc_deg: float | None = None
     space: dict[str, ParamRange] = field(default_factory=lambda: dict(SEARCH_SPACE))
     condition: dict[str, float | list[float]] = field(default_factory=dict)
+    grip: bool = False  # search the compliant grip (GRIP_SPACE) on the env's own gait
 
     @property
     def direction(self) -> str:
@@ -66,10 +73,20 @@ class TuneSettings:
         out["space"] = {k: [v.low, v.high, v.integer] for k, v in self.space.items()}
         if not self.condition:  # studies from before --condition resume unchanged
             del out["condition"]
+        if not self.grip:  # nor do those from before --grip
+            del out["grip"]
         return out
 
+    @property
+    def default_params(self) -> dict[str, float]:
+        """The study's trial 0: the untuned gait, or for a grip study the open loop (no gain)."""
+        return dict(GRIP_DEFAULT_PARAMS if self.grip else DEFAULT_PARAMS)
+
     def env_kwargs(self, params: Mapping[str, float]) -> dict[str, Any]:
-        """Env arguments that play the gait ``params`` (squeeze and ``gait_kwargs``)."""
+        """Env arguments that play the gait ``params`` (squeeze and ``gait_kwargs``), or the
+        grip ``params`` on the env's own gait."""
+        if self.grip:
+            return dict(params)
         gait = {k: v for k, v in params.items() if k not in ENV_PARAMS}
         gait["rolls_per_cycle"] = self.rolls_per_cycle
         env = {k: v for k, v in params.items() if k in ENV_PARAMS}
@@ -93,8 +110,8 @@ class TuneSettings:
     def make_envs(self, params: Mapping[str, float]) -> list[gymnasium.Env]:
         """One env per condition playing the gait ``params`` under the protocol."""
         kwargs = {**self.protocol_kwargs(), **self.env_kwargs(params)}
-        # The trial's gait replaces a tuned gait the env's id plays (ACLClimb-v2, v3).
-        kwargs["tuned_gait"] = None
+        if not self.grip:  # the trial's gait replaces a tuned gait the id plays (ACLClimb-v3)
+            kwargs["tuned_gait"] = None
         with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
             warnings.simplefilter("ignore", DeprecationWarning)
             return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]

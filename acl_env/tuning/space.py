@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from acl_env.envs.grip import GRIP_LEAK
 from acl_env.gait.gaits import (
     DEFAULT_AMP_PITCH,
     DEFAULT_PITCH,
@@ -18,7 +19,10 @@ from acl_env.gait.gaits import (
 )
 from acl_env.io import parse_kv_pairs
 
-ENV_PARAMS = ("squeeze",)  # searched parameters that are env arguments; the rest are gait_kwargs
+# The compliant grip's parameters (envs/grip.py), searched with --grip on the env's own gait.
+GRIP_PARAMS = ("grip_target", "grip_gain", "grip_leak")
+# Searched parameters that are env arguments; the rest are gait_kwargs.
+ENV_PARAMS = ("squeeze", *GRIP_PARAMS)
 # Env arguments --condition may fix for a whole study (the physical conditions of the held-out
 # evaluation); the env checks their values.
 CONDITIONS = ("pole_radius", "friction", "kp")
@@ -78,6 +82,23 @@ DEFAULT_PARAMS: dict[str, float] = {
     "amp_radial": 0.0,
     "radial_freq": 2,
     "pitch": DEFAULT_PITCH,
+}
+
+
+# The compliant grip's search space: targets from slack (0 N) to twice the largest section's mean
+# squeeze force on the open loop (about 170 N on ACLClimb-v3); gains up to 5e-4 m/(N s), beyond
+# which the filtered loop goes unstable (3e-4 at 150 N already falls, docs/grip.md); leaks from
+# 0.1 s (the squeeze back within two steps) to 5 s (nearly integral).
+GRIP_SPACE: dict[str, ParamRange] = {
+    "grip_target": ParamRange(0.0, 350.0),
+    "grip_gain": ParamRange(0.0, 5e-4),
+    "grip_leak": ParamRange(0.1, 5.0),
+}
+# Trial 0 of a grip study: no gain, i.e. the open loop itself, measured in the same study.
+GRIP_DEFAULT_PARAMS: dict[str, float] = {
+    "grip_target": 0.0,
+    "grip_gain": 0.0,
+    "grip_leak": GRIP_LEAK,
 }
 
 

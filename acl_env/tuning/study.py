@@ -31,7 +31,7 @@ import sqlalchemy.exc
 from tqdm import tqdm
 
 from acl_env.tuning.objective import TuneSettings, make_objective
-from acl_env.tuning.space import DEFAULT_PARAMS, UsageError
+from acl_env.tuning.space import UsageError
 from acl_env.tuning.stop import catch_stop_signals, stop_point
 
 FINISHED = (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED)
@@ -243,10 +243,9 @@ def prepare_study(
     stored = study.user_attrs.get("settings")
     if stored is None:
         study.set_user_attr("settings", attrs)
-        if all(
-            settings.space[k].low <= v <= settings.space[k].high for k, v in DEFAULT_PARAMS.items()
-        ):
-            study.enqueue_trial(DEFAULT_PARAMS, user_attrs={"default_gait": True})
+        default = settings.default_params
+        if all(settings.space[k].low <= v <= settings.space[k].high for k, v in default.items()):
+            study.enqueue_trial(default, user_attrs={"default_gait": True})
         for params in start_from:
             study.enqueue_trial(dict(params), user_attrs={"start_from": True})
     elif stored != attrs:

@@ -13,8 +13,9 @@ the helix radius is pole + module radius - squeeze. Its generalised force, by vi
     Q_s = sum_j  w_js  tau_j  dq_j/dsqueeze(k)         (N)
 
 with ``tau_j`` the spring torque the joint reads (``actuators.read_torque``), ``dq_j/dsqueeze``
-the gait's own sensitivity at keyframe ``k`` (from the keyframe tables of helices tighter and
-looser, ``envs/modulation.offset_tables``) and ``w_js`` joint ``j``'s share of section ``s``
+the gait's own sensitivity at keyframe ``k`` (the secant between the keyframe tables of helices
+5 mm tighter and looser, ``envs/modulation.offset_tables``: the joints are far from linear in the
+squeeze, and 5 mm is the scale the controller works at) and ``w_js`` joint ``j``'s share of section ``s``
 (``envs/modulation.section_weights``). ``Q_s > 0``: the section's springs push the body tighter
 than it is, i.e. it presses on the pole. The springs also carry the wave's and gravity's loads,
 so ``Q_s`` is low-passed over one control step (``GRIP_FILTER``) before an admittance law,

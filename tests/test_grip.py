@@ -97,7 +97,7 @@ def test_closed_loop_moves_the_measured_force_toward_the_target() -> None:
         env.reset(seed=1)
         grip, ticks = env._grip, []
         update = grip.update
-        grip.update = lambda *args, _u=update: ticks.append(1) or _u(*args)
+        grip.update = lambda *args, _u=update, _t=ticks: _t.append(1) or _u(*args)
         measured = []
         for info in _run(env, 20):
             measured.append(grip.force.copy())

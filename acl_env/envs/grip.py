@@ -15,11 +15,11 @@ the helix radius is pole + module radius - squeeze. Its generalised force, by vi
 with ``tau_j`` the spring torque the joint reads (``actuators.read_torque``), ``dq_j/dsqueeze``
 the gait's own sensitivity at keyframe ``k`` (the secant between the keyframe tables of helices
 5 mm tighter and looser, ``envs/modulation.offset_tables``: the joints are far from linear in the
-squeeze, and 5 mm is the scale the controller works at) and ``w_js`` joint ``j``'s share of section ``s``
-(``envs/modulation.section_weights``). ``Q_s > 0``: the section's springs push the body tighter
-than it is, i.e. it presses on the pole. The springs also carry the wave's and gravity's loads,
-so ``Q_s`` is low-passed over one control step (``GRIP_FILTER``) before an admittance law,
-integral with a leak back to the gait's own squeeze, holds it at a target:
+squeeze, and 5 mm is the scale the controller works at) and ``w_js`` joint ``j``'s share of
+section ``s`` (``envs/modulation.section_weights``). ``Q_s > 0``: the section's springs push
+the body tighter than it is, i.e. it presses on the pole. The springs also carry the wave's and
+gravity's loads, so ``Q_s`` is low-passed over one control step (``GRIP_FILTER``) before an
+admittance law, integral with a leak back to the gait's own squeeze, holds it at a target:
 
     d sigma_s / dt = gain (target_s - Qf_s) - sigma_s / leak,      |sigma_s| <= GRIP_RANGE
 
@@ -27,7 +27,7 @@ and the joints are commanded the gait with section ``s``'s helix ``sigma_s`` tig
 (``interpolate_offsets``: the exact tables, interpolated). A section that loses its grip as
 the wave expands it tightens, and one pressing harder than it needs relaxes, which a fixed
 squeeze (the open loop) cannot do. Without a leak the sections drift to the range's ends on the
-loads the filter passes (a 150 N target at 3e-4 m/(N s) falls, ``docs/grip.md``).
+loads the filter passes, and a fast loop loses the pole (falls by gain: ``docs/grip.md``).
 """
 
 from __future__ import annotations

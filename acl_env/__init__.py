@@ -15,7 +15,8 @@ through torsional springs, commands and sensors arrive late; :mod:`acl_env.actua
 * ``acl_env/ACLClimbNoRoll-v5``: ACLClimbNoRoll-v4's task on the SEA;
 * ``acl_env/ACLClimbCompliant-v1``: ACLClimb-v3's task on the compliant ACL controller (the
   gait's squeeze adapted per body section at 100 Hz to the spring torques,
-  :mod:`acl_env.envs.grip`), with one more action per section setting its grip target.
+  :mod:`acl_env.envs.grip`), with one more action per section setting its grip target;
+* ``acl_env/ACLClimbNoRollCompliant-v1``: ACLClimbNoRoll-v5's task on the compliant controller.
 
 The environments they build on, and those earlier results are published for:
 
@@ -40,6 +41,7 @@ __all__ = [
     "ACL_CLIMB_COMPLIANT_ID",
     "ACL_CLIMB_ID",
     "ACL_CLIMB_NOROLL_BENCHMARK_ID",
+    "ACL_CLIMB_NOROLL_COMPLIANT_ID",
     "ACL_CLIMB_NOROLL_ID",
     "ACL_CLIMB_NOROLL_SEA_ID",
     "ACL_CLIMB_NOROLL_V2_ID",
@@ -48,6 +50,7 @@ __all__ = [
     "BENCHMARK_KWARGS",
     "COMPLIANT_KWARGS",
     "NOROLL_BENCHMARK_KWARGS",
+    "NOROLL_COMPLIANT_KWARGS",
     "NOROLL_KWARGS",
     "NOROLL_SEA_KWARGS",
     "NOROLL_V2_KWARGS",
@@ -66,6 +69,7 @@ ACL_CLIMB_NOROLL_V2_ID = "acl_env/ACLClimbNoRoll-v2"
 ACL_CLIMB_SEA_ID = "acl_env/ACLClimb-v3"
 ACL_CLIMB_NOROLL_SEA_ID = "acl_env/ACLClimbNoRoll-v5"
 ACL_CLIMB_COMPLIANT_ID = "acl_env/ACLClimbCompliant-v1"
+ACL_CLIMB_NOROLL_COMPLIANT_ID = "acl_env/ACLClimbNoRollCompliant-v1"
 
 # The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
 # the open-loop tuner's best for this task's reward, entry "acl_noroll" of the shipped tuned gaits
@@ -116,6 +120,7 @@ BENCHMARK_BASES = {
     ACL_CLIMB_SEA_ID: ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_SEA_ID: ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_COMPLIANT_ID: ACL_CLIMB_ID,
+    ACL_CLIMB_NOROLL_COMPLIANT_ID: ACL_CLIMB_NOROLL_ID,
 }
 # The SEA tasks: the servo benchmark tasks with the series elastic actuators, each on the gait
 # the tuner found best on the SEA for its reward (entries "acl_sea", "acl_noroll_sea").
@@ -130,9 +135,17 @@ NOROLL_SEA_KWARGS = {
 # section's grip target by up to 100 N (the sections' mean squeeze forces on the open loop span
 # 20-170 N).
 COMPLIANT_KWARGS = {**SEA_KWARGS, **tuned_gaits.grip("acl_sea_grip"), "grip_action_scale": 100.0}
+# The same for the non-rolling task, on the grip tuned there for its gait's reward
+# ("acl_noroll_sea_grip").
+NOROLL_COMPLIANT_KWARGS = {
+    **NOROLL_SEA_KWARGS,
+    **tuned_gaits.grip("acl_noroll_sea_grip"),
+    "grip_action_scale": 100.0,
+}
 
 _ENVS = {
     ACL_CLIMB_COMPLIANT_ID: COMPLIANT_KWARGS,
+    ACL_CLIMB_NOROLL_COMPLIANT_ID: NOROLL_COMPLIANT_KWARGS,
     ACL_CLIMB_SEA_ID: SEA_KWARGS,
     ACL_CLIMB_NOROLL_SEA_ID: NOROLL_SEA_KWARGS,
     ACL_CLIMB_BENCHMARK_ID: BENCHMARK_KWARGS,

@@ -47,6 +47,7 @@ from acl_env import (
     ACL_CLIMB_COMPLIANT_ID,
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_BENCHMARK_ID,
+    ACL_CLIMB_NOROLL_COMPLIANT_ID,
     ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_NOROLL_SEA_ID,
     ACL_CLIMB_NOROLL_V2_ID,
@@ -167,6 +168,9 @@ TASKS: dict[str, TaskBaselines] = {
     ),
     # The compliant task: judged against the SEA's tuned open loop and compliant_acl.
     ACL_CLIMB_COMPLIANT_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl_sea"),
+    ACL_CLIMB_NOROLL_COMPLIANT_ID: TaskBaselines(
+        base_gait="acl", non_rolling=True, tuned_key="acl_noroll_sea"
+    ),
 }
 # The tuned-gaits entry for a gait whose rolling is not its task's (a non-rolling gait given as
 # --env-kwargs to open-loop ACL), or on an env id TASKS does not list, per non-rolling flag.

@@ -625,8 +625,33 @@ def test_init_from_starts_as_the_trained_policy_with_new_actions_at_zero(
     assert record["args"]["init_from"] == str(complete_run)
 
 
+def test_init_from_carries_over_to_an_env_that_observes_more(
+    complete_run: Path, tmp_path: Path
+) -> None:
+    """New observations (here the privileged centre of mass) start with zero input weights and
+    unit statistics: the warm-started policy first acts as the trained one; the shared
+    observations keep their columns and statistics."""
+    start = AtTrainingStart()
+    run(tiny_argv(tmp_path, 128, "--trust-pickles", "--init-from", str(complete_run),
+                  "--env-kwargs", "privileged_obs:true"), start)  # fmt: skip
+    trained, stats, _ = load(complete_run)
+    source = policy_params(trained)
+    n_old = stats.obs_rms.mean.size  # 89: the new env appends 6 (envs/observations.py)
+    for key in ("mlp_extractor.policy_net.0.weight", "mlp_extractor.value_net.0.weight"):
+        weight = start.params[key]
+        assert weight.shape[1] == n_old + 6
+        assert torch.equal(weight[:, :n_old], source[key]) and not weight[:, n_old:].any()
+    assert torch.equal(start.params["action_net.weight"], source["action_net.weight"])
+    # the statistics before the first reset's 2 observations: carried over, new at 0 and 1
+    count = stats.obs_rms.count
+    assert start.obs_rms.mean.size == n_old + 6 and start.obs_rms.count == pytest.approx(count + 2)
+    assert np.allclose(start.obs_rms.mean[:n_old], stats.obs_rms.mean, atol=0.5)
+    assert np.allclose(start.obs_rms.mean[n_old:], 0.0, atol=0.1)  # 2 of count + 2 samples
+    assert np.allclose(start.obs_rms.var[n_old:], 1.0, atol=0.1)
+
+
 INIT_FROM_CASES = [
-    (["--env-kwargs", "privileged_obs:true"], "observes"),  # other observations
+    (["--env-kwargs", "n_joints:10"], "does not observe"),  # fewer observations
     (["--hyperparams", "normalize:false"], "normalise"),
     (["--hyperparams", "policy_kwargs:dict(net_arch=[32])"], "policy_kwargs"),
 ]

@@ -20,6 +20,7 @@ import numpy as np
 import yaml
 
 from acl_env import ACL_CLIMB_ID, pretrained, shipped
+from acl_env.envs.observations import env_observation_names
 from acl_env.io import check_writable_folder
 from acl_env.training import cli, warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperparams
@@ -401,8 +402,9 @@ def _check_init_from(
     path: str, probe: Any, hyperparams: dict[str, Any], policy: Any, trust_pickles: bool
 ) -> warm_start.TrainedStart:
     """The trained policy of ``--init-from``, loaded and checked against the new run: the same
-    observation, normalisation and network (``policy``, the new run's) but for the action
-    entries, and at least one shared action (warm_start.py)."""
+    normalisation and network (``policy``, the new run's) but for the action entries and any
+    observations the new env adds, every observation of the trained one, and at least one
+    shared action (warm_start.py)."""
     from stable_baselines3 import PPO
 
     if pretrained.is_pretrained(path):
@@ -430,13 +432,11 @@ def _check_init_from(
     except ConfigError as error:
         raise _bad("--init-from", f"its env does not build here ({error})") from None
     try:
-        if source.observation_space.shape != probe.observation_space.shape:
-            raise _bad(
-                "--init-from",
-                f"the trained policy observes {source.observation_space.shape}, the new env "
-                f"{probe.observation_space.shape}",
-            )
+        names = [env_observation_names(e.unwrapped) for e in (source, probe)]
+        observed = None if names[0] == names[1] else warm_start.observation_map(*names)
         shared = warm_start.action_map(source.unwrapped.action_names, probe.unwrapped.action_names)
+    except ValueError as error:
+        raise _bad("--init-from", f"{error}") from None
     finally:
         source.close()
     try:
@@ -444,10 +444,10 @@ def _check_init_from(
     except Exception as error:  # a zip that is not an SB3 model fails in many ways
         raise _bad("--init-from", f"{folder.model} is not a PPO model ({error})") from None
     try:
-        warm_start.check_compatible(state, policy.state_dict(), shared)
+        warm_start.check_compatible(state, policy.state_dict(), shared, observed)
     except ValueError as error:
         raise _bad("--init-from", str(error)) from None
-    return warm_start.TrainedStart(folder.model, state, stats, shared)
+    return warm_start.TrainedStart(folder.model, state, stats, shared, observed)
 
 
 def _check_policy_kwargs(probe: Any, hyperparams: dict[str, Any]) -> Any:

@@ -158,10 +158,12 @@ def _previous_segments(history: dict[str, Any]) -> list[dict[str, Any]]:
 
 def _warm_start(model: Any, env: Any, start: warm_start.TrainedStart) -> None:
     """Start ``model`` (and ``env``'s normalisation) as the trained policy (checked by the plan)."""
-    state = warm_start.transfer(start.state, model.policy.state_dict(), start.shared)
+    state = warm_start.transfer(
+        start.state, model.policy.state_dict(), start.shared, start.observed
+    )
     model.policy.load_state_dict(state)
     if start.normalization is not None:
-        warm_start.copy_normalization(start.normalization, env)
+        warm_start.copy_normalization(start.normalization, env, start.observed)
     print(
         f"warm start from {start.model}: {len(start.shared)} of {model.action_space.shape[0]} "
         "actions carried over"

@@ -10,7 +10,8 @@ table, ``--dry-run`` prints the commands it would run. Each command run is noted
 finished in ``docs/records.json`` (``--record``): file -> command and time.
 
 Not made here: the learning curves (``docs/learning_curves*``, from training runs), the tuner's
-frontiers (``docs/frontier_acl*.png``, from its studies) and ``docs/snake.png``
+frontiers (``docs/frontier_acl*.png``) and the grip's falls by gain (``docs/grip_slip*``, from
+its studies) and ``docs/snake.png``
 (``python -m acl_env --snapshot``), which need a training run, an Optuna study or a display.
 """
 
@@ -33,6 +34,8 @@ RECORD_FILE = DOCS / "records.json"
 NOROLL_POLICY = "acl_env/data/policies/acl_climb_noroll_ppo"  # the servo's (arc, video)
 NOROLL_SEA_POLICY = "acl_env/data/policies/acl_climb_noroll_sea_ppo"
 SERVO_POLICY = "acl_env/data/policies/acl_climb_ppo"
+COMPLIANT_POLICY = "acl_env/data/policies/acl_climb_compliant_ppo"
+NOROLL_COMPLIANT_POLICY = "acl_env/data/policies/acl_climb_noroll_compliant_ppo"
 
 
 @dataclass(frozen=True)
@@ -65,6 +68,16 @@ RECORDS: dict[str, Record] = {
     "eval_noroll_servo": Record(
         ("docs/eval_noroll_servo.json",),
         f"acl-evaluate --policy {NOROLL_POLICY} --json docs/eval_noroll_servo.json --markdown",
+    ),
+    "eval_compliant": Record(
+        ("docs/eval_compliant.json", "docs/eval_compliant.png"),
+        f"acl-evaluate --policy {COMPLIANT_POLICY} --json docs/eval_compliant.json"
+        " --plot docs/eval_compliant.png --markdown",
+    ),
+    "eval_noroll_compliant": Record(
+        ("docs/eval_noroll_compliant.json",),
+        f"acl-evaluate --policy {NOROLL_COMPLIANT_POLICY} --json docs/eval_noroll_compliant.json"
+        " --markdown",
     ),
     "eval_open_loop": Record(
         ("docs/eval_open_loop.json",),
@@ -113,6 +126,12 @@ RECORDS: dict[str, Record] = {
         ("docs/acl_policy.mp4",),
         "acl-evaluate --episodes 1 --video docs/acl_policy.mp4 --video-beside"
         " open_loop_acl_same_cadence open_loop_tuned --video-speedup 4",
+    ),
+    "compliant_policy_video": Record(
+        ("docs/compliant_policy.mp4",),
+        f"acl-evaluate --policy {COMPLIANT_POLICY} --episodes 1 --video docs/compliant_policy.mp4"
+        " --video-beside compliant_acl_same_cadence open_loop_acl_same_cadence"
+        " --video-speedup 4",
     ),
     "noroll_policy_video": Record(
         ("docs/noroll_policy.mp4",),

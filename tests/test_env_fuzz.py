@@ -71,6 +71,14 @@ SEA_REALS: dict[str, tuple[list[float], bool]] = {
     "control_latency": ([-0.01, 0.21, 1e300], True),
     "sensor_latency": ([-0.01, 0.21, 1e300], True),
 }
+# The compliant grip's (envs/grip.py), given on the SEA with a target (the gain, leak and action
+# scale need one; without it any value is refused).
+GRIP_REALS: dict[str, list[float]] = {
+    "grip_target": [-500.5, 500.5, 1e300],
+    "grip_gain": [-1e-4, 0.0101, 1e300],
+    "grip_leak": [0.0, 0.005, -1.0, 100.5, 1e300],
+    "grip_action_scale": [-1.0, 500.5, 1e300],
+}
 # Integer arguments: (values out of range, None allowed).
 INTS: dict[str, tuple[list[Any], bool]] = {
     "n_joints": ([2, 101, 0, -5, 20.0, 20.5], False),
@@ -93,6 +101,13 @@ def numeric_cases() -> Iterator[tuple[dict[str, Any], str]]:
         for value in [*NOT_NUMBERS, *NON_FINITE, *HUGE_INTS, *bad]:
             yield {name: value, "actuator_model": "sea"}, name
         yield {name: 1.0}, name  # an SEA option on the servo
+    for name, bad in GRIP_REALS.items():
+        target = {} if name == "grip_target" else {"grip_target": 10.0}
+        for value in [*NOT_NUMBERS, *NON_FINITE, *HUGE_INTS, *bad]:
+            yield {name: value, "actuator_model": "sea", **target}, name
+        if name != "grip_target":
+            yield {name: 1.0, "actuator_model": "sea"}, name  # without a target
+    yield {"grip_target": 10.0}, "grip_target"  # on the servo: no springs to read
 
 
 def mapping_garbage(name: str, keys: list[str]) -> Iterator[tuple[dict[str, Any], str]]:
@@ -257,6 +272,14 @@ VALID_EXTREMES: list[dict[str, Any]] = [
     {"actuator_model": "sea", "control_latency": 0.2, "sensor_latency": 0.2},
     {"actuator_model": "sea", "control_latency": 0.0, "sensor_latency": 0.0},
     {"actuator_model": "sea", "domain_randomization": {"control_latency": (0.0, 0.2)}},
+    {"actuator_model": "sea", "grip_target": 500.0, "grip_gain": 0.01, "grip_leak": 0.01},
+    {
+        "actuator_model": "sea",
+        "grip_target": -500.0,
+        "grip_gain": 0.01,
+        "grip_leak": 100.0,
+        "grip_action_scale": 500.0,
+    },
     {"actuator_model": "sea", "domain_randomization": True, "timestep": 0.005},
 ]
 

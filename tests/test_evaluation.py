@@ -337,6 +337,11 @@ def test_the_shipped_policy_gets_every_metric_and_controller(tmp_path: Path) -> 
     folder = read_policy_folder(DEFAULT_POLICY)
     sets_cadence = baselines.env_setting(folder.env_id, folder.env_kwargs, "phase_rate_range")
     expected = FIVE if sets_cadence else FIVE - {"open_loop_acl_same_cadence"}
+    if baselines.env_setting(folder.env_id, folder.env_kwargs, "actuator_model") == "sea":
+        # the compliant grip tuned on the SEA's gait, also at the policy's cadence
+        expected = expected | {"compliant_acl"}
+        if sets_cadence:
+            expected = expected | {"compliant_acl_same_cadence"}
     assert document["controllers"].keys() == expected, document["notes"]
     for summary in document["controllers"].values():
         assert set(evaluation.METRICS) <= set(summary)
@@ -720,6 +725,8 @@ def test_every_registered_task_has_its_baselines() -> None:
         "acl_env/RollingHelixClimb-v1": "acl",
         "acl_env/ACLClimb-v3": "acl_sea",
         "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
+        "acl_env/ACLClimbCompliant-v1": "acl_sea",
+        "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
     }
     assert {env_id: task.tuned_key for env_id, task in baselines.TASKS.items()} == expected
     # A gait given on the command line that rolls otherwise than its task's: the default entries.
@@ -745,6 +752,7 @@ def test_the_old_module_warns_and_re_exports() -> None:
     assert old.TUNED_KEYS_BY_ENV == {
         "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
         "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
+        "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
     }
     for name in old.__all__:
         assert hasattr(old, name), name

@@ -45,7 +45,7 @@ def _controller(gain: float = 1e-3, leak: float = 100.0, target: float = 100.0) 
     env = gym.make(ACL_CLIMB_SEA_ID, **SHORT, grip_target=0.0).unwrapped
     env.reset(seed=0)
     controller = GripController(section_weights(env.n_joints, 4), target, gain, leak)
-    controller.reset(env.gait, tuple(sorted(env._gait_kwargs(env.pole_radius).items())))
+    controller.reset(env.gait, env._gait_kwargs(env.pole_radius))
     return controller
 
 

@@ -340,8 +340,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self.gait = self._make_gait(pole_radius)
         self._table = self._gait_table()
         self._offset_tables = self._gait_offset_tables(pole_radius)
-        if self._grip is not None:
-            self._grip.reset(self.gait, tuple(sorted(self._gait_kwargs(pole_radius).items())))
+        if self._grip is not None:  # tables per 1 mm of pole, as the modulation's
+            self._grip.reset(self.gait, self._gait_kwargs(table_radius(pole_radius)))
         span = max(1, round(self.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
         self._step_count = 0

@@ -32,6 +32,9 @@ loads the filter passes, and a fast loop loses the pole (falls by gain: ``docs/g
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 
 from acl_env.envs.modulation import interpolate_offsets, offset_tables
@@ -76,9 +79,11 @@ class GripController:
         self._tables = np.zeros((1, 3, 1, weights.shape[0]))
         self._sensitivity = np.zeros((1, weights.shape[0]))
 
-    def reset(self, gait: Gait, items: tuple[tuple[str, object], ...]) -> None:
-        """Start an episode on ``gait`` (its keyword ``items``, sorted: the squeeze tables are
-        cached per gait shape) with the sections at the gait's own squeeze."""
+    def reset(self, gait: Gait, kwargs: Mapping[str, Any]) -> None:
+        """Start an episode on ``gait``, whose squeeze tables are those of ``gait``'s class with
+        keyword arguments ``kwargs`` (cached per gait shape: the env gives the pole radius
+        rounded to 1 mm), with the sections at the gait's own squeeze."""
+        items = tuple(sorted(kwargs.items()))
         self._tables = offset_tables(type(gait), items, (("squeeze", GRIP_RANGE),))
         self._sensitivity = squeeze_sensitivity(self._tables, GRIP_RANGE)
         self.offset[:] = 0.0

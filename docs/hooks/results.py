@@ -35,6 +35,8 @@ LABELS = {
     "open_loop_policy_gait": "the policy's gait, open loop",
     "open_loop_rolling_helix": "rolling helix",
     "open_loop_tuned": "tuned open loop",
+    "compliant_acl": "compliant ACL (tuned grip on the tuned gait)",
+    "compliant_acl_same_cadence": "compliant ACL at the policy's cadence",
 }
 
 # Every metric of an evaluation record: key, label, scale, format (as acl-evaluate's table).

@@ -38,6 +38,7 @@ PUBLISHED = {
     "acl_climb_ppo": "eval_servo.json",
     "acl_climb_noroll_sea_ppo": "eval_noroll.json",
     "acl_climb_noroll_ppo": "eval_noroll_servo.json",
+    "acl_climb_compliant_ppo": "eval_compliant.json",
 }
 
 

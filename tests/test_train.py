@@ -18,6 +18,7 @@ import yaml
 
 import acl_env
 from acl_env import (
+    ACL_CLIMB_COMPLIANT_ID,
     ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_NOROLL_SEA_ID,
@@ -227,6 +228,7 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
         (ACL_CLIMB_NOROLL_ID, "acl_climb_noroll_ppo"),
         (ACL_CLIMB_SEA_ID, "acl_climb_sea_ppo"),
         (ACL_CLIMB_NOROLL_SEA_ID, "acl_climb_noroll_sea_ppo"),
+        (ACL_CLIMB_COMPLIANT_ID, "acl_climb_compliant_ppo"),
     ],
 )
 def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, policy: str) -> None:

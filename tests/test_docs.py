@@ -40,7 +40,7 @@ def test_mkdocs_build_strict(site: Path) -> None:
     assert "ACLClimbEnv" in (site / "api" / "envs" / "index.html").read_text()
 
 
-@pytest.mark.parametrize("record", ["eval.json", "eval_noroll.json"])
+@pytest.mark.parametrize("record", ["eval.json", "eval_noroll.json", "eval_compliant.json"])
 def test_results_page_reads_the_records(site: Path, record: str) -> None:
     page = (site / "results" / "index.html").read_text()
     policy = json.loads((ROOT / "docs" / record).read_text())["controllers"]["policy"]

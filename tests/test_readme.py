@@ -41,8 +41,16 @@ ROWS = {
         "rolling helix (rolls: 360° of skin touched)": "open_loop_rolling_helix",
     },
 }
+ROWS["eval_compliant.json"] = {
+    "residual PPO on the compliant grip (shipped)": "policy",
+    "tuned ACL at the policy's cadence": "open_loop_acl_same_cadence",
+    "compliant ACL at the policy's cadence": "compliant_acl_same_cadence",
+    "tuned ACL": "open_loop_tuned",
+    "compliant ACL": "compliant_acl",
+}
 # Columns of each table: metric, scale, decimals (None: the largest value, as a whole number).
 COLUMNS = {
+    "eval_compliant.json": ACL_COLUMNS,
     "eval_servo.json": ACL_COLUMNS,
     "eval.json": [
         ("climb_per_gait_cycle_m", 100, 2),
@@ -85,6 +93,7 @@ def _table_rows(text: str, header: str) -> dict[str, list[str]]:
     ("record_name", "header"),
     [
         ("eval.json", "acl_env/ACLClimb-v3"),
+        ("eval_compliant.json", "acl_env/ACLClimbCompliant-v1"),
         ("eval_servo.json", "acl_env/ACLClimb-v2"),
         ("eval_noroll.json", "acl_env/ACLClimbNoRoll-v5"),
         ("eval_noroll_servo.json", "acl_env/ACLClimbNoRoll-v4"),

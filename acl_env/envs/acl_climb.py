@@ -70,15 +70,14 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     ``Box(-1, 1, (n_joints,), float32)``: joint ``j``'s target (rad) is ``clip(gait(phase)[j] +
     residual_scale * action[j], -pi/2, pi/2)`` (gait term 0 for ``base_gait="none"``). Actions
     are clipped to [-1, 1]; NaN, inf or a wrong shape raises ``ValueError``, a non-real dtype
-    ``TypeError``. ``gait_modulation={parameter:
-    scale}`` appends ``len(gait_modulation) * modulation_sections`` entries, parameter-major:
-    entry ``(p, s)`` offsets gait parameter ``p`` (``squeeze``, ``amp_pitch``, ``amp_radial``) by
-    up to ``scale`` m in body section ``s`` (head first, hat functions between section centres),
-    changing the targets as the gait's Eq. 1-5 tables with that offset would. Then
+    ``TypeError``. ``gait_modulation={parameter: scale}`` appends ``len(gait_modulation) *
+    modulation_sections`` entries, parameter-major: entry ``(p, s)`` offsets gait parameter ``p``
+    (``squeeze``, ``amp_pitch``, ``amp_radial``) by up to ``scale`` m in body section ``s`` (head
+    first, hat functions between section centres), as the gait's Eq. 1-5 tables would. Then
     ``phase_rate_range=(low, high)`` (PMTG) appends one entry ``a``: the gait advances ``1 + a
     (high - 1)`` keyframes for ``a >= 0``, ``1 + a (1 - low)`` below, with targets interpolated
-    linearly between keyframes. ``action_names`` names every entry (``joint_3``,
-    ``squeeze_section_1``, ``cadence``).
+    linearly between keyframes; before it, ``grip_action_scale`` > 0 puts one entry per section
+    that moves its grip target (``envs/grip.py``). ``action_names`` names every entry.
 
     ## Observation Space
     What the robot senses (float64, ``n = n_joints``):
@@ -92,7 +91,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     | 3n+4 .. 3n+6 | head IMU angular velocity | rad/s |
     | 3n+7, 3n+8 | cos, sin of the gait phase of the next step | - |
     | 3n+9 .. 4n+8 | base gait's target angles for the next step | rad |
-    | 4n+9 .. 4n+14 | only with ``privileged_obs``: centre of mass position, velocity | m, m/s |
+    | next 2 x sections | with ``grip_target``: squeeze offsets (of 2 cm), squeeze forces | -, N |
+    | last 6 | only with ``privileged_obs``: centre of mass position, velocity | m, m/s |
 
     ## Rewards
     The sum of ``reward_<term> = +-w_<term> * <term>``, weights ``reward_weights``: ``climb`` (+),
@@ -168,6 +168,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     | motor_speed_limit | None (2.2) | [0.1, 100] | SEA motor top speed, rad/s |
     | control_latency | None (0.01) | [0, 0.2] | s from a command to the SEA motors |
     | sensor_latency | None (0.005) | [0, 0.2] | s from the joints to the observed angles |
+    | grip_target | None | [-500, 500] | N: compliant grip per section (SEA; ``envs/grip.py``) |
+    | grip_gain, grip_leak | None (1e-4, 1) | [0, 0.01], [0.01, 100] | its m/(N s), leak (s) |
+    | grip_action_scale | None (0) | [0, 500] | N of grip target per unit action |
 
     A value of the wrong kind raises ``TypeError``, one out of range ``ValueError``, both naming
     the argument (``envs/arguments.py`` says why each bound); a negative reward weight flips its
@@ -361,7 +364,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         ramp_in(self.model, self.data, start, target, duration)
         # The ramp ends holding keyframe k0: the first step plays the next one.
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
-        self._com_start = self._com()[2]
+        self._com_start = self._com_view[2]
         self._roll = termination.RollSpan.begin(self._body_roll.angles())
         return self._get_obs()
 
@@ -451,10 +454,6 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         a = float(action[self._rate_index])
         return 1.0 + a * (hi - 1.0 if a >= 0.0 else 1.0 - lo)
 
-    def _com(self) -> np.ndarray:
-        """Centre of mass of the snake (the subtree of its root link)."""
-        return self.data.subtree_com[self._root_body]
-
     @property
     def action_names(self) -> tuple[str, ...]:
         """What each action entry drives, in order (``envs/modulation.py``)."""
@@ -478,7 +477,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             parts += [self._grip.offset * (1.0 / GRIP_RANGE), self._grip.force]
         if self.privileged_obs:
             mujoco.mj_subtreeVel(self.model, data)
-            parts += [self._com(), data.subtree_linvel[self._root_body]]
+            parts += [self._com_view, data.subtree_linvel[self._root_body]]
         obs = np.concatenate(parts)
         if "sensor_noise" in self.randomization:
             noise = self._noise_std * self.np_random.standard_normal(self._noise_std.size)
@@ -486,7 +485,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         return obs
 
     def _get_reset_info(self) -> dict[str, Any]:
-        return {"com_height": float(self._com()[2]), "phase": self._keyframe / self.steps_per_cycle}
+        com, phase = float(self._com_view[2]), self._keyframe / self.steps_per_cycle
+        return {"com_height": com, "phase": phase}
 
 
 def __getattr__(name: str) -> Any:

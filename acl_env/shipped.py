@@ -11,13 +11,15 @@ from pathlib import Path
 RECIPE_FILE = "ppo.yml"
 # The ACL policy on the SEA (ACLClimb-v3, the default) and on the servo (ACLClimb-v2), the
 # non-rolling policy on the SEA (ACLClimbNoRoll-v5) and on the servo (ACLClimbNoRoll-v4), and the
-# ACL policy on the compliant grip (ACLClimbCompliant-v1).
+# ACL and non-rolling policies on the compliant grip (ACLClimbCompliant-v1,
+# ACLClimbNoRollCompliant-v1).
 POLICIES = (
     "acl_climb_sea_ppo",
     "acl_climb_ppo",
     "acl_climb_noroll_sea_ppo",
     "acl_climb_noroll_ppo",
     "acl_climb_compliant_ppo",
+    "acl_climb_noroll_compliant_ppo",
 )
 DEFAULT_POLICY = "acl_climb_sea_ppo"
 

@@ -39,6 +39,7 @@ PUBLISHED = {
     "acl_climb_noroll_sea_ppo": "eval_noroll.json",
     "acl_climb_noroll_ppo": "eval_noroll_servo.json",
     "acl_climb_compliant_ppo": "eval_compliant.json",
+    "acl_climb_noroll_compliant_ppo": "eval_noroll_compliant.json",
 }
 
 

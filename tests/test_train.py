@@ -20,6 +20,7 @@ import acl_env
 from acl_env import (
     ACL_CLIMB_COMPLIANT_ID,
     ACL_CLIMB_ID,
+    ACL_CLIMB_NOROLL_COMPLIANT_ID,
     ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_NOROLL_SEA_ID,
     ACL_CLIMB_NOROLL_V2_ID,
@@ -229,6 +230,7 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
         (ACL_CLIMB_SEA_ID, "acl_climb_sea_ppo"),
         (ACL_CLIMB_NOROLL_SEA_ID, "acl_climb_noroll_sea_ppo"),
         (ACL_CLIMB_COMPLIANT_ID, "acl_climb_compliant_ppo"),
+        (ACL_CLIMB_NOROLL_COMPLIANT_ID, "acl_climb_noroll_compliant_ppo"),
     ],
 )
 def test_shipped_policy_was_trained_with_the_committed_recipe(env_id: str, policy: str) -> None:

@@ -126,3 +126,17 @@ def test_readme_paired_sentence_is_the_record() -> None:
     assert sentence is not None
     assert sentence.groups() == (f"{climb['mean'] * 100:.2f}", f"{climb['half_width'] * 100:.2f}")
     assert f"slides {-slip['mean']:.2f} ± {slip['half_width']:.2f} m less per metre" in text
+
+
+def test_readme_noroll_compliant_sentence_is_the_record() -> None:
+    """The non-rolling residual on the compliant grip, as the README states it."""
+    record = records.read_record(ROOT / "docs" / "eval_noroll_compliant.json")
+    policy = records.controller_summary(record, "policy")
+    climb, slip = policy["climb_per_gait_cycle_m"], policy["slip_per_m"]
+    text = " ".join((ROOT / "README.md").read_text().split())
+    expected = (
+        f"residual climbs {climb['mean'] * 100:.2f} ± {climb['half_width'] * 100:.2f} cm per "
+        f"gait cycle and slides {slip['mean']:.2f} per metre"
+    )
+    assert expected in text
+    assert max(policy["touched_arc_deg"]["values"]) <= 90.0  # "its arcs within 90°"

@@ -103,7 +103,8 @@ class GripController:
         else:
             self.force[:], self._started = force, True
         rate = self.gain * (self.target - self.force) - self.offset * (1.0 / self.leak)
-        np.clip(self.offset + dt * rate, -GRIP_RANGE, GRIP_RANGE, out=self.offset)
+        offset = np.maximum(self.offset + dt * rate, -GRIP_RANGE)
+        np.minimum(offset, GRIP_RANGE, out=self.offset)  # np.clip, without its dispatch
         return self.change(k)
 
     def change(self, k: int) -> np.ndarray:

@@ -120,7 +120,8 @@ def interpolate_offsets(tables: np.ndarray, k: int, offsets: np.ndarray) -> np.n
     units of each parameter's scale (in [-1, 1]): linear between :func:`offset_tables`' grid
     points, summed over parameters."""
     n_params, n_grid = tables.shape[:2]
-    u = (np.clip(offsets, -1.0, 1.0) + 1.0) * (0.5 * (n_grid - 1))
+    # np.minimum/np.maximum: np.clip's result without its dispatch (every firmware tick)
+    u = (np.minimum(np.maximum(offsets, -1.0), 1.0) + 1.0) * (0.5 * (n_grid - 1))
     lo = np.minimum(u.astype(np.intp), n_grid - 2)
     w = u - lo
     p = np.arange(n_params)[:, None]

@@ -52,7 +52,8 @@ class StepPhysics:
             else:
                 for _ in range(self.ticks_per_sample):
                     change = grip.update(readout.read_torque(stiffness), k, self.tick_dt)
-                    np.clip(target + change, -JOINT_LIMIT, JOINT_LIMIT, out=data.ctrl)
+                    command = np.maximum(target + change, -JOINT_LIMIT)
+                    np.minimum(command, JOINT_LIMIT, out=data.ctrl)  # np.clip's result
                     mujoco.mj_step(model, data, nstep=self.tick_steps)
             speed, on_pole, on_floor = self.contacts.sample(data)
             slip += speed * self.sample_dt

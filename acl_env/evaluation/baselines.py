@@ -26,7 +26,10 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
   for a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v3``: its roll term
   and roll limit apply; a policy on the superseded v2 is judged against v2's own,
   ``acl_noroll_v2``); a gait tuned on given poles keeps the ``squeeze_slope`` of the env it was
-  tuned on; skipped with a note when the file has no such entry.
+  tuned on; skipped with a note when the file has no such entry;
+* ``compliant_acl`` (and ``compliant_acl_same_cadence`` when the policy sets the cadence): on
+  the series elastic actuators, ``open_loop_tuned`` with the compliant grip tuned on it (entry
+  ``<tuned key>_grip``, :mod:`acl_env.envs.grip`); the open loops above play without the grip.
 
 All run at the env's default conditions plus the policy's non-training env kwargs plus the
 overrides; domain randomisation is training-only. Every controller's env computes its reward with

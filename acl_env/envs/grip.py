@@ -26,8 +26,8 @@ admittance law, integral with a leak back to the gait's own squeeze, holds it at
 and the joints are commanded the gait with section ``s``'s helix ``sigma_s`` tighter
 (``interpolate_offsets``: the exact tables, interpolated). A section that loses its grip as
 the wave expands it tightens, and one pressing harder than it needs relaxes, which a fixed
-squeeze (the open loop) cannot do. Without a leak the sections drift to the range's ends on the
-loads the filter passes, and a fast loop loses the pole (falls by gain: ``docs/grip.md``).
+squeeze (the open loop) cannot do. The leak keeps the loads the filter passes from winding the
+sections up to the range's ends; a fast loop loses the pole (falls by gain: ``docs/grip.md``).
 """
 
 from __future__ import annotations

@@ -41,6 +41,8 @@ SHIPPED_FILE = "tuned_gaits.json"
 TUNED_GAIT_KWARG = "tuned_gait"
 # What an entry's env_kwargs may hold, and so what tuned_gait=key sets.
 GAIT_SHAPE_KWARGS = ("squeeze", "gait_kwargs")
+# What an entry tuned with ``acl-tune-gait --grip`` holds instead: the compliant grip's law.
+GRIP_KWARGS = ("grip_target", "grip_gain", "grip_leak")
 
 
 class TunedGaitsError(ValueError):
@@ -93,7 +95,7 @@ def grip(key: str, path: str | Path | None = None) -> dict[str, Any]:
     """The env kwargs of entry ``key``'s compliant grip (``acl-tune-gait --grip``): its
     ``grip_target``, ``grip_gain`` and ``grip_leak``."""
     kwargs = entry(key, path).get("env_kwargs") or {}
-    return {k: float(v) for k, v in kwargs.items() if k.startswith("grip_")}
+    return {k: float(v) for k, v in kwargs.items() if k in GRIP_KWARGS}
 
 
 def resolve(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:

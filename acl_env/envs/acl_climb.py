@@ -457,12 +457,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     @property
     def action_names(self) -> tuple[str, ...]:
         """What each action entry drives, in order (``envs/modulation.py``)."""
-        cadence, targets = self.phase_rate_range is not None, bool(self.grip_action_scale)
-        names = modulation.action_names(
-            self.n_joints, self._modulated, self.modulation_sections, False
-        )
-        grip = [f"grip_section_{s}" for s in range(self.modulation_sections)] if targets else []
-        return names + tuple(grip) + (("cadence",) if cadence else ())
+        cadence, grip = self.phase_rate_range is not None, bool(self.grip_action_scale)
+        sections = self.modulation_sections
+        return modulation.action_names(self.n_joints, self._modulated, sections, cadence, grip)
 
     def _get_obs(self) -> np.ndarray:
         data = self.data

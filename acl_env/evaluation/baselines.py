@@ -76,7 +76,7 @@ GAIT_KWARGS = ("gait_kwargs", "base_gait", "squeeze", "squeeze_slope")
 POLICY_ACTION_KWARGS = ("gait_modulation", "modulation_sections", "grip_action_scale")
 # The compliant grip's (envs/grip.py): the open loops play without it, compliant_acl with the
 # grip tuned for the task.
-GRIP_KWARGS = ("grip_target", "grip_gain", "grip_leak")
+GRIP_KWARGS = tuned_gaits.GRIP_KWARGS
 SAME_CADENCE = "open_loop_acl_same_cadence"
 POLICY_GAIT = "open_loop_policy_gait"
 TUNED_SAME_CADENCE = "open_loop_tuned_same_cadence"
@@ -419,12 +419,12 @@ def _compliant(
         notes.append(f"{COMPLIANT}: skipped, the compliant grip needs the SEA")
         return []
     try:
-        entry = tuned_gaits.entry(key, tuned_path)
+        grip = tuned_gaits.grip(key, tuned_path)
     except TunedGaitsError as error:
         notes.append(f"{COMPLIANT}: skipped, {error}")
         return []
-    grip = {k: v for k, v in (entry.get("env_kwargs") or {}).items() if k in GRIP_KWARGS}
-    notes.append(f"{COMPLIANT}: the grip {key!r}, best of {entry.get('trials', '?')} trials")
+    trials = tuned_gaits.entry(key, tuned_path).get("trials", "?")
+    notes.append(f"{COMPLIANT}: the grip {key!r}, best of {trials} trials")
     out = [Controller(COMPLIANT, env_id, {**kwargs, **grip})]
     if sets_cadence:
         out.append(Controller(COMPLIANT_SAME_CADENCE, env_id, {**kwargs, **grip}, phase_rate=1.0))

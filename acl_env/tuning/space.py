@@ -18,9 +18,10 @@ from acl_env.gait.gaits import (
     helix_radius,
 )
 from acl_env.io import parse_kv_pairs
+from acl_env.tuned_gaits import GRIP_KWARGS
 
 # The compliant grip's parameters (envs/grip.py), searched with --grip on the env's own gait.
-GRIP_PARAMS = ("grip_target", "grip_gain", "grip_leak")
+GRIP_PARAMS = GRIP_KWARGS
 # Searched parameters that are env arguments; the rest are gait_kwargs.
 ENV_PARAMS = ("squeeze", *GRIP_PARAMS)
 # Env arguments --condition may fix for a whole study (the physical conditions of the held-out

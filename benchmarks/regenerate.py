@@ -74,6 +74,11 @@ RECORDS: dict[str, Record] = {
         f"acl-evaluate --policy {COMPLIANT_POLICY} --json docs/eval_compliant.json"
         " --plot docs/eval_compliant.png --markdown",
     ),
+    "policy_behaviour": Record(
+        ("docs/policy_behaviour.json", "docs/policy_behaviour.png"),
+        f"python benchmarks/policy_behaviour.py --policy {COMPLIANT_POLICY} --episodes 20"
+        " --json docs/policy_behaviour.json --plot docs/policy_behaviour.png",
+    ),
     "eval_noroll_compliant": Record(
         ("docs/eval_noroll_compliant.json",),
         f"acl-evaluate --policy {NOROLL_COMPLIANT_POLICY} --json docs/eval_noroll_compliant.json"

@@ -4,13 +4,14 @@
 [--plot PATH]``
 
 Plays the policy (default: the shipped ``acl_climb_compliant_ppo``) at its env's defaults, then
-``compliant_acl`` and the tuned open loop at the policy's mean cadence (the controllers and
-kwargs of ``acl-evaluate``), on the same seeds. Per eighth of the gait cycle it gives each one's
-slip and climb (mm per gait cycle, mean over episodes) and, for the policy and ``compliant_acl``,
-the mean grip target and squeeze offset of each body section (:mod:`acl_env.envs.grip`); for
-the policy also its joint residual (RMS, rad) and cadence (keyframes per step). Two ablations
-split the policy's gain: the policy with its grip-target actions held at zero (the tuned targets)
-and with its joint residuals held at zero; each prints its climb, slip and energy.
+``compliant_acl`` and the tuned open loop at the policy's mean cadence, when it sets one (the
+controllers and kwargs of ``acl-evaluate``), on the same seeds. Per eighth of the gait cycle it
+gives each one's slip and climb (mm per gait cycle, mean over episodes) and, for the policy and
+``compliant_acl``, the mean grip target and squeeze offset of each body section
+(:mod:`acl_env.envs.grip`); for the policy also its joint residual (RMS, rad) and cadence
+(keyframes per step). Two ablations split the policy's gain: the policy with its grip-target
+actions held at zero (the tuned targets) and with its joint residuals held at zero;
+``acl-evaluate``'s table and paired differences say what each group is worth.
 """
 
 from __future__ import annotations
@@ -43,9 +44,10 @@ ABLATIONS = {
     "policy_without_grip_actions": "grip_section_",
     "policy_without_joint_residuals": "joint_",
 }
-COMPLIANT = baselines.COMPLIANT_SAME_CADENCE
+# compliant_acl at the policy's cadence, or at the gait's when the policy does not set it
+COMPLIANTS = (baselines.COMPLIANT_SAME_CADENCE, baselines.COMPLIANT)
 # The tuned open loop at the policy's cadence: its own name, or the policy's gait's when that is it
-OPEN_LOOPS = (baselines.TUNED_SAME_CADENCE, baselines.SAME_CADENCE)
+OPEN_LOOPS = (baselines.TUNED_SAME_CADENCE, baselines.SAME_CADENCE, "open_loop_tuned")
 
 
 class PhaseSums:
@@ -125,7 +127,7 @@ def plot(document: dict, path: Path) -> None:
         axes[0, 0].plot(x, phases[name]["slip_mm"], marker=marker, label=name)
     axes[0, 0].set_ylabel("slip per eighth (mm per gait cycle)")
     axes[0, 0].set_title("slip by phase")
-    policy, compliant = phases["policy"], phases[COMPLIANT]
+    policy, compliant = phases["policy"], phases[document["shown"][1]]
     offsets = np.asarray(policy["squeeze_offset_mm"])
     for s in range(offsets.shape[1]):
         line = axes[0, 1].plot(x, offsets[:, s], marker="o", label=f"policy, section {s}")
@@ -175,15 +177,18 @@ def main(argv: list[str] | None = None) -> dict:
         parser.error(f"argument --policy: {error}")
     controllers, _ = baselines.build_controllers(folder, {}, None, baselines.DEFAULT_TUNED_GAITS)
     by_name = {c.name: c for c in controllers}
+    compliant = next((name for name in COMPLIANTS if name in by_name), None)
     open_loop = next((name for name in OPEN_LOOPS if name in by_name), None)
-    if COMPLIANT not in by_name or open_loop is None:
-        parser.error("argument --policy: not a compliant task with a cadence action")
-    shown = ("policy", COMPLIANT, open_loop)
+    if compliant is None or open_loop is None:
+        parser.error("argument --policy: not a policy on a compliant task (acl_env/*Compliant-*)")
+    shown = ("policy", compliant, open_loop)
     seed_list, progress = seeds(args), not args.no_progress_bar
     results = {"policy": play(by_name["policy"], seed_list, progress)}
     rate = summarize(results["policy"].episodes)["mean_phase_rate"]
     for name in shown[1:]:
-        at_rate = dataclasses.replace(by_name[name], phase_rate=rate)
+        at_rate = by_name[name]
+        if name in baselines.AT_POLICY_CADENCE:
+            at_rate = dataclasses.replace(at_rate, phase_rate=rate)
         results[name] = play(at_rate, seed_list, progress)
     for name, prefix in ABLATIONS.items():
         results[name] = play(by_name["policy"], seed_list, progress, prefix, name)

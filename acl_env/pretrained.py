@@ -8,8 +8,8 @@ A pretrained policy folder holds two files (format ``acl_env.policy/1``):
   ``obs_var`` (float64, as VecNormalize keeps them), ``clip_obs`` and ``epsilon``;
 * ``policy.json``: the metadata: ``format``, ``name``, ``env_id``, ``env_kwargs`` (the training
   env's, as trained), ``activation``, ``net_arch``, the spaces' shapes and the action bounds,
-  ``training`` (the recipe entry, steps, wall time, command, commit) and ``evaluation`` (a summary
-  of the published record).
+  ``training`` (the recipe entry, steps, wall time, command, the ``--resume`` commands that
+  continued the run if any, commit) and ``evaluation`` (a summary of the published record).
 
 The deterministic action is SB3's ``PPO.predict(VecNormalize.normalize_obs(obs),
 deterministic=True)``: the observation normalised in float64 and rounded to float32, the MLP in

@@ -314,6 +314,22 @@ def test_acl_evaluate_takes_a_shipped_name_or_a_folder(
     assert "--policy" in err and "policy.npz" in err
 
 
+def test_the_export_names_the_commands_that_resumed_its_run(tmp_path: Path) -> None:
+    """A resumed run's steps come from its first command and its resumes: policy.json names
+    both, so that the command alone is not mistaken for the whole training."""
+    from acl_env.training.policy import read_sb3_folder
+
+    folder = tmp_path / "run"
+    shutil.copytree(EXPERIMENT_FOLDERS[1], folder)
+    args = json.loads((folder / "args.json").read_text())
+    assert export.training_summary(read_sb3_folder(folder), 1, None).get("resumed_with") is None
+    args["resumes"] = [{"argv": ["--resume", "runs/x", "--trust-pickles", "--n-timesteps", "5"]}]
+    (folder / "args.json").write_text(json.dumps(args))
+    summary = export.training_summary(read_sb3_folder(folder), 1, None)
+    assert summary["command"].startswith("acl-train ") and "--resume" not in summary["command"]
+    assert summary["resumed_with"] == ["acl-train --resume runs/x --trust-pickles --n-timesteps 5"]
+
+
 def test_the_exporter_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """It writes both files and prints them; a folder without SB3 files is refused in one line."""
     source, out = EXPERIMENT_FOLDERS[1], tmp_path / "out"

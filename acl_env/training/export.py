@@ -93,15 +93,21 @@ def normalization_arrays(path: Path, trust_pickles: bool = False) -> dict[str, n
 
 
 def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> dict[str, Any]:
-    """The recipe entry, steps, wall time, command and commit of the run that trained it."""
+    """The recipe entry, steps, wall time, command (and the ``--resume`` commands that continued
+    it, if any) and commit of the run that trained it."""
     args, summary = (
         read_json(folder.path / file) if (folder.path / file).is_file() else {}
         for file in (ARGS_FILE, SUMMARY_FILE)
     )
     argv = args.get("argv")
+    # A resumed run's steps are its first command's and its resumes' together: name them all.
+    resumed = [
+        shlex.join(["acl-train", *r["argv"]]) for r in args.get("resumes", []) if r.get("argv")
+    ]
     return {
         "hyperparams": folder.hyperparams,
         "command": None if argv is None else shlex.join(["acl-train", *argv]),
+        **({"resumed_with": resumed} if resumed else {}),
         "seed": (args.get("settings") or {}).get("seed"),
         "steps": summary.get("total_steps", steps),
         "wall_time_s": summary.get("wall_time_s"),

@@ -73,13 +73,17 @@ class PhaseSums:
         self.rate[b] += info["phase_rate"]
         self.keyframes += info["phase_rate"]
         self.steps_per_cycle = base.steps_per_cycle
-        joints = np.asarray(action, dtype=float)[: base.n_joints]
-        self.residual[b] += base.residual_scale * float(np.sqrt(np.mean(joints**2)))
-        if base._grip is not None:
+        played = np.asarray(action, dtype=float)
+        self.residual[b] += base.residual_scale * float(
+            np.sqrt(np.mean(played[: base.n_joints] ** 2))
+        )
+        if base.grip_target is not None:  # the grip's state, as the policy observes it
             names = env_observation_names(base)
             first = names.index("grip_offset_0")
             self.offset[b] += obs[first : first + self.offset.shape[1]] * GRIP_RANGE
-            self.target[b] += base._grip.target
+            grip = [i for i, name in enumerate(base.action_names) if name.startswith("grip_")]
+            scale = base.grip_action_scale or 0.0
+            self.target[b] += base.grip_target + scale * played[grip] if grip else base.grip_target
 
     def summary(self) -> dict[str, Any]:
         """Slip and climb in mm per gait cycle; the rest as means over each eighth's steps."""

@@ -20,10 +20,9 @@ from acl_env.gait.gaits import (
 from acl_env.io import parse_kv_pairs
 from acl_env.tuned_gaits import GRIP_KWARGS
 
-# The compliant grip's parameters (envs/grip.py), searched with --grip on the env's own gait.
-GRIP_PARAMS = GRIP_KWARGS
-# Searched parameters that are env arguments; the rest are gait_kwargs.
-ENV_PARAMS = ("squeeze", *GRIP_PARAMS)
+# Searched parameters that are env arguments (the squeeze, and with --grip the compliant grip's
+# law, searched on the env's own gait); the rest are gait_kwargs.
+ENV_PARAMS = ("squeeze", *GRIP_KWARGS)
 # Env arguments --condition may fix for a whole study (the physical conditions of the held-out
 # evaluation); the env checks their values.
 CONDITIONS = ("pole_radius", "friction", "kp")

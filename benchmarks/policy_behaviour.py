@@ -53,37 +53,40 @@ OPEN_LOOPS = (baselines.TUNED_SAME_CADENCE, baselines.SAME_CADENCE, "open_loop_t
 class PhaseSums:
     """Per-eighth sums of one controller's steps over its episodes."""
 
-    def __init__(self, sections: int) -> None:
+    def __init__(self, env: Any) -> None:
+        base = env.unwrapped  # an ACLClimbEnv: its options, action and observation names
+        sections = base.modulation_sections
         self.count = np.zeros(BINS)
         self.slip, self.climb = np.zeros(BINS), np.zeros(BINS)
         self.target, self.offset = np.zeros((BINS, sections)), np.zeros((BINS, sections))
         self.residual, self.rate = np.zeros(BINS), np.zeros(BINS)
         self.episodes: list[Episode] = []  # as acl-evaluate measures them
-        self.keyframes, self.steps_per_cycle = 0.0, 1
+        self.keyframes, self.steps_per_cycle = 0.0, base.steps_per_cycle
+        self.n_joints, self.residual_scale = base.n_joints, base.residual_scale
+        # The grip's target and offsets, as the policy sets and observes them (None: no grip)
+        self.grip_target, self.grip_scale = base.grip_target, base.grip_action_scale or 0.0
+        self.grip_actions = [i for i, n in enumerate(base.action_names) if n.startswith("grip_")]
+        names = env_observation_names(base)
+        first = names.index("grip_offset_0") if "grip_offset_0" in names else 0
+        self.offset_obs = slice(first, first + sections)
 
     def add(self, env: Any, obs: np.ndarray, action: Any, info: dict[str, Any]) -> None:
         """A :func:`~acl_env.evaluation.protocol.run_episode` callback."""
         if action is None:
             return
-        base = env.unwrapped
         b = min(int(info["phase"] * BINS), BINS - 1)
         self.count[b] += 1
         self.slip[b] += info["slip"]
         self.climb[b] += info["climb"]
         self.rate[b] += info["phase_rate"]
         self.keyframes += info["phase_rate"]
-        self.steps_per_cycle = base.steps_per_cycle
         played = np.asarray(action, dtype=float)
-        self.residual[b] += base.residual_scale * float(
-            np.sqrt(np.mean(played[: base.n_joints] ** 2))
-        )
-        if base.grip_target is not None:  # the grip's state, as the policy observes it
-            names = env_observation_names(base)
-            first = names.index("grip_offset_0")
-            self.offset[b] += obs[first : first + self.offset.shape[1]] * GRIP_RANGE
-            grip = [i for i, name in enumerate(base.action_names) if name.startswith("grip_")]
-            scale = base.grip_action_scale or 0.0
-            self.target[b] += base.grip_target + scale * played[grip] if grip else base.grip_target
+        rms = float(np.sqrt(np.mean(played[: self.n_joints] ** 2)))
+        self.residual[b] += self.residual_scale * rms
+        if self.grip_target is not None:
+            self.offset[b] += obs[self.offset_obs] * GRIP_RANGE
+            moved = self.grip_scale * played[self.grip_actions] if self.grip_actions else 0.0
+            self.target[b] += self.grip_target + moved
 
     def summary(self) -> dict[str, Any]:
         """Slip and climb in mm per gait cycle; the rest as means over each eighth's steps."""
@@ -109,13 +112,14 @@ def play(
 ) -> PhaseSums:
     """``controller`` on ``seed_list``; ``zeroed``: its action entries named so held at zero."""
     env = controller.make_env()
-    policy = controller.make_policy(env)
+    policy = acting = controller.make_policy(env)
     if zeroed is not None:
         keep = np.array([not n.startswith(zeroed) for n in env.unwrapped.action_names])
-        acting = policy
-        policy = lambda obs: acting(obs) * keep  # noqa: E731
-    sections = env.unwrapped.modulation_sections
-    sums = PhaseSums(sections)
+
+        def policy(obs: np.ndarray) -> np.ndarray:
+            return acting(obs) * keep
+
+    sums = PhaseSums(env)
     for seed in tqdm(seed_list, desc=name or controller.name, disable=not progress):
         sums.episodes.append(run_episode(env, policy, seed, callback=sums.add))
     env.close()

@@ -7,7 +7,9 @@ them (the commands the README cites). Without ``--only`` every record is made ag
 each takes minutes. After a physics change this is the one command that brings ``docs/`` up to
 date; the marked test group ``pytest -m replay`` fails until it has run. ``--list`` prints the
 table, ``--dry-run`` prints the commands it would run. Each command run is noted with the time it
-finished in ``docs/records.json`` (``--record``): file -> command and time.
+finished in ``docs/records.json`` (``--record``): file -> command and time. A shipped policy's
+``policy.json`` keeps a summary of its published evaluation record: it is refreshed when that
+record is made again.
 
 Not made here: the learning curves (``docs/learning_curves*``, from training runs), the tuner's
 frontiers (``docs/frontier_acl*.png``) and the grip's falls by gain (``docs/grip_slip*``, from
@@ -25,8 +27,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from acl_env.io import read_json
+from acl_env import shipped
+from acl_env.io import read_json, write_json
+from acl_env.pretrained import METADATA_FILE
 from acl_env.scripts import make_parser, write_output
+from acl_env.training.export import evaluation_summary
 
 REPO = Path(__file__).resolve().parent.parent
 DOCS = Path("docs")
@@ -146,6 +151,21 @@ RECORDS: dict[str, Record] = {
 }
 
 
+def refresh_policy_summaries(files: tuple[str, ...]) -> list[str]:
+    """Re-summarise, in each shipped policy's ``policy.json``, the evaluation record it names if
+    that record is one of ``files`` (just made again); return the policies refreshed."""
+    refreshed = []
+    for name in shipped.list_policies():
+        path = shipped.policy_dir(name) / METADATA_FILE
+        metadata = read_json(path)
+        record = (metadata.get("evaluation") or {}).get("record")
+        if record in files:
+            metadata["evaluation"] = evaluation_summary(REPO / record)
+            write_json(path, metadata)
+            refreshed.append(name)
+    return refreshed
+
+
 def regenerate(names: list[str], dry_run: bool, record_path: Path) -> dict[str, Any]:
     """Run the commands of ``names`` from the repository's root (or print them, ``dry_run``) and
     note each file made in ``record_path``: its command and when it finished."""
@@ -163,6 +183,8 @@ def regenerate(names: list[str], dry_run: bool, record_path: Path) -> dict[str, 
         for file in record.files:
             made[file] = {"command": record.command, "made": finished}
         write_output(path, dict(sorted(made.items())))
+        for policy in refresh_policy_summaries(record.files):
+            print(f"{name}: {policy}'s policy.json summarises the new record", flush=True)
         print(f"{name}: {time.monotonic() - start:.0f} s", flush=True)
     return made
 

@@ -131,3 +131,35 @@ def test_regenerate_runs_a_record_from_the_root_and_notes_it(
     assert calls[0][0][0] == regenerate["sys"].executable
     assert json.loads(record.read_text()) == made
     assert made["docs/gait.png"]["command"] == "python -m acl_env.gait --plot docs/gait.png"
+
+
+def test_regenerate_refreshes_the_summary_of_the_policy_whose_record_it_made(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A shipped policy's policy.json summarises its published record: remaking that record
+    re-summarises it there; remaking another record leaves it as it was."""
+    import shutil
+
+    from acl_env import shipped
+    from acl_env.training.export import evaluation_summary
+
+    folder = tmp_path / "acl_climb_compliant_ppo"
+    shutil.copytree(shipped.policy_dir("acl_climb_compliant_ppo"), folder)
+    metadata_path = folder / "policy.json"
+    metadata = json.loads(metadata_path.read_text())
+    record = metadata["evaluation"]["record"]
+    metadata["evaluation"]["controllers"]["policy"]["slip_per_m"]["mean"] = 1.0  # stale
+    metadata_path.write_text(json.dumps(metadata))
+    monkeypatch.setattr(shipped, "list_policies", lambda: ["acl_climb_compliant_ppo"])
+    monkeypatch.setattr(shipped, "policy_dir", lambda name: tmp_path / name)
+    refresh = _regenerate()["refresh_policy_summaries"]
+
+    assert refresh(("docs/eval.json", "docs/eval.png")) == []
+    assert json.loads(metadata_path.read_text()) == metadata
+    assert refresh((record,)) == ["acl_climb_compliant_ppo"]
+    refreshed = json.loads(metadata_path.read_text())
+    assert refreshed["evaluation"] == json.loads(json.dumps(evaluation_summary(ROOT / record)))
+    assert refreshed["evaluation"]["controllers"]["policy"]["slip_per_m"]["mean"] < 0.2
+    assert {k: v for k, v in refreshed.items() if k != "evaluation"} == {
+        k: v for k, v in metadata.items() if k != "evaluation"
+    }

@@ -28,10 +28,10 @@ from pathlib import Path
 from typing import Any
 
 from acl_env import shipped
+from acl_env.evaluation.records import evaluation_summary
 from acl_env.io import read_json, write_json
 from acl_env.pretrained import METADATA_FILE
 from acl_env.scripts import make_parser, write_output
-from acl_env.training.export import evaluation_summary
 
 REPO = Path(__file__).resolve().parent.parent
 DOCS = Path("docs")

@@ -20,7 +20,7 @@ import pytest
 
 import acl_env
 from acl_env import pretrained, shipped
-from acl_env.evaluation import baselines
+from acl_env.evaluation import baselines, records
 from acl_env.evaluation import cli as evaluate_cli
 from acl_env.training import export
 
@@ -169,7 +169,7 @@ def test_a_shipped_policy_fits_its_registered_env(name: str) -> None:
     assert policy.metadata["format"] == pretrained.FORMAT
     assert policy.metadata["training"]["steps"] > 0
     assert set(policy.metadata["evaluation"]["controllers"]["policy"]) == set(
-        export.SUMMARY_METRICS
+        records.SUMMARY_METRICS
     )
     env = gym.make(policy.env_id, **policy.env_kwargs)
     assert policy.observation_shape == env.observation_space.shape
@@ -196,7 +196,7 @@ def test_a_shipped_policys_metadata_summarises_its_own_published_record(name: st
     summary = acl_env.load_policy(name).metadata["evaluation"]
     record = ROOT / summary["record"]
     assert json.loads(record.read_text())["policy"] == f"acl_env/data/policies/{name}"
-    fresh = export.evaluation_summary(record)
+    fresh = records.evaluation_summary(record)
     assert summary["record"] == fresh["record"] and summary["episodes"] == fresh["episodes"]
     assert set(summary["controllers"]) == set(fresh["controllers"])
     for controller, metrics in fresh["controllers"].items():

@@ -141,7 +141,7 @@ def test_regenerate_refreshes_the_summary_of_the_policy_whose_record_it_made(
     import shutil
 
     from acl_env import shipped
-    from acl_env.training.export import evaluation_summary
+    from acl_env.evaluation.records import evaluation_summary
 
     folder = tmp_path / "acl_climb_compliant_ppo"
     shutil.copytree(shipped.policy_dir("acl_climb_compliant_ppo"), folder)

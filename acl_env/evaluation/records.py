@@ -25,6 +25,8 @@ from acl_env.evaluation.protocol import CI_NOTE, paired_differences
 from acl_env.io import read_json, write_json
 
 REFERENCE = "policy"  # the controller the others are paired against
+# What a pretrained policy's policy.json summarises of each controller of its published record.
+SUMMARY_METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "falls")
 
 
 def make_record(
@@ -133,3 +135,29 @@ def metric_values(record: Mapping[str, Any], controller: str, metric: str) -> li
     """The per-episode values of one metric of one controller, in seed order (null as NaN)."""
     values = controller_metric(record, controller, metric).get("values") or []
     return [math.nan if v is None else float(v) for v in values]
+
+
+def evaluation_summary(record_path: str | Path) -> dict[str, Any]:
+    """Per controller of a published evaluation record, the mean and 95 % half-width of
+    :data:`SUMMARY_METRICS` (and the number of falls)."""
+    from acl_env.evaluation.baselines import shown_path  # the env stack: imported when needed
+
+    record = read_record(Path(record_path))
+    controllers: dict[str, Any] = {}
+    episodes = None
+    for name, summary in record["controllers"].items():
+        entry: dict[str, Any] = {}
+        for metric in SUMMARY_METRICS:
+            value = summary.get(metric) or {}
+            entry[metric] = {"mean": value.get("mean"), "half_width": value.get("half_width")}
+            if "count" in value:
+                entry[metric]["count"] = value["count"]
+        controllers[name] = entry
+        episodes = summary.get("episodes", episodes)
+    return {
+        "record": shown_path(record_path),
+        "policy": record.get("policy"),
+        "episodes": episodes,
+        "interval": "mean and Student-t 95 % half-width over the episodes",
+        "controllers": controllers,
+    }

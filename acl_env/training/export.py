@@ -27,14 +27,13 @@ from typing import Any
 import numpy as np
 
 from acl_env.evaluation.baselines import on_benchmark_id
+from acl_env.evaluation.records import evaluation_summary
 from acl_env.io import atomic_write, read_json, write_json
 from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
 from acl_env.training import cli
 from acl_env.training.policy import PolicyFolder, read_sb3_folder
 from acl_env.training.runs import ARGS_FILE, SUMMARY_FILE, read_vecnormalize, require_trust
 
-# What policy.json summarises of each controller of a published evaluation record.
-SUMMARY_METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "falls")
 ACTIVATION_NAMES = {"Tanh": "tanh", "ReLU": "relu"}
 
 
@@ -113,33 +112,6 @@ def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> di
         "wall_time_s": summary.get("wall_time_s"),
         "interrupted": summary.get("interrupted"),
         "commit": commit or args.get("commit") or summary.get("commit"),
-    }
-
-
-def evaluation_summary(record_path: Path) -> dict[str, Any]:
-    """Per controller of a published evaluation record, the mean and 95 % half-width of
-    :data:`SUMMARY_METRICS` (and the number of falls)."""
-    from acl_env.evaluation.baselines import shown_path
-    from acl_env.evaluation.records import read_record
-
-    record = read_record(record_path)
-    controllers: dict[str, Any] = {}
-    episodes = None
-    for name, summary in record["controllers"].items():
-        entry: dict[str, Any] = {}
-        for metric in SUMMARY_METRICS:
-            value = summary.get(metric) or {}
-            entry[metric] = {"mean": value.get("mean"), "half_width": value.get("half_width")}
-            if "count" in value:
-                entry[metric]["count"] = value["count"]
-        controllers[name] = entry
-        episodes = summary.get("episodes", episodes)
-    return {
-        "record": shown_path(record_path),
-        "policy": record.get("policy"),
-        "episodes": episodes,
-        "interval": "mean and Student-t 95 % half-width over the episodes",
-        "controllers": controllers,
     }
 
 

@@ -771,3 +771,20 @@ def test_the_evaluation_package_imports_without_torch_yaml_or_sb3() -> None:
     )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
+
+
+def test_controllers_of_a_benchmark_policy_make_their_envs_without_version_warnings() -> None:
+    """The evaluation spells a benchmark task on its base id (ACLClimb-v3 as ACLClimb-v1 with
+    kwargs); making those envs does not tell the user their id is out of date."""
+    import warnings
+
+    from acl_env import pretrained
+
+    folder = pretrained.load_policy("acl_climb_compliant_ppo")
+    controllers, _ = baselines.build_controllers(folder, {}, None, evaluate_cli.DEFAULT_TUNED_GAITS)
+    assert any(c.env_id == ACL_CLIMB_ID for c in controllers)  # spelled on the base id
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for controller in controllers:
+            controller.make_env().close()
+    assert not [w for w in caught if "out of date" in str(w.message)]

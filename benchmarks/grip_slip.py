@@ -8,7 +8,10 @@ compliant grip of ``--key`` (:mod:`acl_env.envs.grip`), on the same seeds, at
 ``--steps-per-cycle`` (the tuner's), and sums each one's slip and climb per eighth of the gait
 cycle (mm per cycle, mean over episodes). With ``--storage``, also counts the grip study's trials
 that fell per band of gain (the study named ``--key`` there, ``acl-tune-gait --grip``): how
-fast the loop may be before it loses the pole.
+fast the loop may be before it loses the pole, and how many trials of that study and of the
+open-loop studies ``--also-study`` (the gait's own, e.g. ``acl_sea``; same seeds and cadence) lie
+in the controller-alone target region: climb at least ``CLIMB_TARGET`` and slip per metre at
+most ``SLIP_TARGET`` times the tuned open loop's (trial 0 of the grip study: zero gain).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from acl_env.training import cli
 
 BINS = 8  # eighths of the gait cycle
 GAIN_BANDS = (0.0, 5e-5, 1e-4, 2e-4, 5e-4)  # m/(N s)
+CLIMB_TARGET, SLIP_TARGET = 0.95, 0.7  # compliant_acl alone against the tuned open loop
 
 
 def by_phase(
@@ -71,6 +75,35 @@ def falls_by_gain(storage: str, study: str) -> list[dict[str, float]]:
     return out
 
 
+def target_region(storage: str, grip_study: str, gait_studies: list[str]) -> dict[str, Any]:
+    """Per study, of its trials that held the pole: how many climb at least ``CLIMB_TARGET``
+    times the tuned open loop's, the least slip per metre among those (as a ratio), and how
+    many also slip at most ``SLIP_TARGET`` times its slip per metre."""
+    import optuna
+
+    def trials(name: str) -> list[Any]:
+        return optuna.load_study(study_name=name, storage=f"sqlite:///{storage}").trials
+
+    reference = trials(grip_study)[0].user_attrs  # zero gain: the open loop itself
+    climb0, slip0 = reference["climb_per_gait_cycle_m"], reference["slip_per_m"]
+    out: dict[str, Any] = {"open_loop": {"climb_per_gait_cycle_m": climb0, "slip_per_m": slip0}}
+    for name in [grip_study, *gait_studies]:
+        held = [
+            t.user_attrs
+            for t in trials(name)
+            if t.state.name == "COMPLETE" and not t.user_attrs.get("disqualified")
+        ]
+        climbing = [a for a in held if a["climb_per_gait_cycle_m"] >= CLIMB_TARGET * climb0]
+        least = min((a["slip_per_m"] for a in climbing), default=float("nan"))
+        out[name] = {
+            "trials_held": len(held),
+            "climb_at_least_target": len(climbing),
+            "least_slip_ratio_among_them": least / slip0,
+            "in_target_region": sum(a["slip_per_m"] <= SLIP_TARGET * slip0 for a in climbing),
+        }
+    return out
+
+
 def plot(document: dict, path: Path) -> None:
     plt = use_agg()
     fig, ax = plt.subplots(figsize=(7, 3.5))
@@ -90,9 +123,18 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--key", default="acl_sea_grip", help="a grip entry of the tuned gaits")
     parser.add_argument("--steps-per-cycle", type=cli.int_at_least(2), default=152)
     parser.add_argument("--storage", type=Path, default=None, help="SQLite file of the study")
+    parser.add_argument(
+        "--also-study",
+        nargs="*",
+        default=[],
+        metavar="NAME",
+        help="open-loop studies in --storage to count in the target region too",
+    )
     args = parser.parse_args(argv)
     if args.storage is not None and not args.storage.is_file():
         parser.error(f"argument --storage: no such file {str(args.storage)!r}")
+    if args.also_study and args.storage is None:
+        parser.error("argument --also-study: needs --storage")
     try:
         entry = tuned_gaits.entry(args.key)
         grip = tuned_gaits.grip(args.key)
@@ -112,6 +154,18 @@ def main(argv: list[str] | None = None) -> dict:
     }
     if args.storage is not None:
         document["falls_by_gain"] = falls_by_gain(args.storage, args.key)
+        try:
+            region = target_region(str(args.storage), args.key, args.also_study)
+        except KeyError as error:  # optuna: no study of that name in the storage
+            parser.error(f"argument --also-study: {error}")
+        document["target_region"] = region
+        for name, row in region.items():
+            if name != "open_loop":
+                print(
+                    f"{name}: {row['in_target_region']} of {row['trials_held']} trials climb "
+                    f">= {CLIMB_TARGET}x and slip <= {SLIP_TARGET}x the open loop; least slip "
+                    f"at that climb {row['least_slip_ratio_among_them']:.2f}x"
+                )
     for name in ("open_loop", "compliant_acl"):
         row = " ".join(f"{v:5.1f}" for v in document[name]["slip_mm"])
         print(f"{name:14s} slip by eighth (mm/cycle): {row}")

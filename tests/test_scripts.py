@@ -163,3 +163,38 @@ def test_regenerate_refreshes_the_summary_of_the_policy_whose_record_it_made(
     assert {k: v for k, v in refreshed.items() if k != "evaluation"} == {
         k: v for k, v in metadata.items() if k != "evaluation"
     }
+
+
+def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(tmp_path: Path) -> None:
+    """benchmarks/grip_slip.py's target region: against trial 0 of the grip study (the open
+    loop), trials that held the pole, climbed >= 0.95x and slid <= 0.7x; fallen ones left out."""
+    optuna = pytest.importorskip("optuna")
+    storage = tmp_path / "studies.db"
+    url = f"sqlite:///{storage}"
+
+    def study(name: str, rows: list[tuple[float, float, str | None]]) -> None:
+        made = optuna.create_study(study_name=name, storage=url, direction="maximize")
+        for climb, slip, disqualified in rows:
+            trial = made.ask()
+            trial.set_user_attr("climb_per_gait_cycle_m", climb)
+            trial.set_user_attr("slip_per_m", slip)
+            if disqualified:
+                trial.set_user_attr("disqualified", disqualified)
+            made.tell(trial, climb)
+
+    # open loop 0.20 m, 0.20 per m; then in the region, too slow, too slippery, fell
+    study("grip", [(0.20, 0.20, None), (0.195, 0.13, None), (0.18, 0.10, None), (0.21, 0.15, None)])
+    study("gait", [(0.20, 0.20, None), (0.20, 0.10, "fell"), (0.20, 0.18, None)])
+    region = runpy.run_path(str(ROOT / "benchmarks" / "grip_slip.py"))["target_region"](
+        str(storage), "grip", ["gait"]
+    )
+    assert region["open_loop"] == {"climb_per_gait_cycle_m": 0.20, "slip_per_m": 0.20}
+    assert region["grip"]["trials_held"] == 4 and region["grip"]["climb_at_least_target"] == 3
+    assert region["grip"]["in_target_region"] == 1
+    assert region["grip"]["least_slip_ratio_among_them"] == pytest.approx(0.65)
+    assert region["gait"] == {
+        "trials_held": 2,
+        "climb_at_least_target": 2,
+        "least_slip_ratio_among_them": pytest.approx(0.9),
+        "in_target_region": 0,
+    }

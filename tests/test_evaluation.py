@@ -779,6 +779,7 @@ def test_controllers_of_a_benchmark_policy_make_their_envs_without_version_warni
     import warnings
 
     from acl_env import pretrained
+    from acl_env.envs.kwargs import check_env_kwargs
 
     folder = pretrained.load_policy("acl_climb_compliant_ppo")
     controllers, _ = baselines.build_controllers(folder, {}, None, evaluate_cli.DEFAULT_TUNED_GAITS)
@@ -787,4 +788,5 @@ def test_controllers_of_a_benchmark_policy_make_their_envs_without_version_warni
         warnings.simplefilter("always")
         for controller in controllers:
             controller.make_env().close()
+            check_env_kwargs(controller.env_id, controller.env_kwargs).close()  # acl-evaluate's
     assert not [w for w in caught if "out of date" in str(w.message)]

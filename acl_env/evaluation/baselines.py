@@ -39,7 +39,6 @@ compares like with like.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -62,6 +61,7 @@ from acl_env import (
     shipped,
     tuned_gaits,
 )
+from acl_env.envs.kwargs import make_quietly
 from acl_env.evaluation.protocol import Policy, constant_cadence_policy, zero_policy
 from acl_env.pretrained import PolicySource
 
@@ -102,11 +102,8 @@ class Controller:
 
     def make_env(self, **extra: Any) -> gymnasium.Env:
         """The controller's env (``extra`` over its kwargs, e.g. ``render_mode``)."""
-        with warnings.catch_warnings():
-            # Benchmark tasks are spelled on their base ids (spelled_on_base): gymnasium's note
-            # that the base id has a newer version is about that spelling, not the user's choice.
-            warnings.filterwarnings("ignore", ".*is out of date", DeprecationWarning)
-            return gymnasium.make(self.env_id, **{**self.env_kwargs, **extra})
+        # A benchmark task is spelled on its base id (spelled_on_base): no note that it is old.
+        return make_quietly(self.env_id, **{**self.env_kwargs, **extra})
 
     def make_policy(self, env: gymnasium.Env) -> Policy:
         """The policy acting in ``env``: the folder's (a pretrained one on numpy, an SB3 one

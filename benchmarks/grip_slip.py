@@ -11,7 +11,8 @@ that fell per band of gain (the study named ``--key`` there, ``acl-tune-gait --g
 fast the loop may be before it loses the pole, and how many trials of that study and of the
 open-loop studies ``--also-study`` (the gait's own, e.g. ``acl_sea``; same seeds and cadence) lie
 in the controller-alone target region: climb at least ``CLIMB_TARGET`` and slip per metre at
-most ``SLIP_TARGET`` times the tuned open loop's (trial 0 of the grip study: zero gain).
+most ``SLIP_TARGET`` times the tuned open loop's (the grip study's default-gait trial:
+zero gain). The studies are read before the play, so a wrong name fails at once.
 """
 
 from __future__ import annotations
@@ -63,10 +64,19 @@ def by_phase(
     }
 
 
-def falls_by_gain(storage: str, study: str) -> list[dict[str, float]]:
+def load_trials(storage: Path, study: str, option: str) -> list[Any]:
+    """The trials of ``study`` in the SQLite file ``storage``; ``ValueError`` naming ``option``
+    (the argument that named the study) when there is no such study."""
     import optuna
 
-    trials = optuna.load_study(study_name=study, storage=f"sqlite:///{storage}").trials
+    try:
+        return optuna.load_study(study_name=study, storage=f"sqlite:///{storage}").trials
+    except KeyError:
+        raise ValueError(f"argument {option}: no study {study!r} in {storage}") from None
+
+
+def falls_by_gain(trials: list[Any]) -> list[dict[str, float]]:
+    """Of a grip study's trials, per band of :data:`GAIN_BANDS`: how many, how many fell."""
     out = []
     for lo, hi in itertools.pairwise(GAIN_BANDS):
         band = [t for t in trials if t.params and lo <= t.params["grip_gain"] < hi]
@@ -75,30 +85,36 @@ def falls_by_gain(storage: str, study: str) -> list[dict[str, float]]:
     return out
 
 
-def target_region(storage: str, grip_study: str, gait_studies: list[str]) -> dict[str, Any]:
-    """Per study, of its trials that held the pole: how many climb at least ``CLIMB_TARGET``
-    times the tuned open loop's, the least slip per metre among those (as a ratio), and how
-    many also slip at most ``SLIP_TARGET`` times its slip per metre."""
-    import optuna
-
-    def trials(name: str) -> list[Any]:
-        return optuna.load_study(study_name=name, storage=f"sqlite:///{storage}").trials
-
-    reference = trials(grip_study)[0].user_attrs  # zero gain: the open loop itself
+def target_region(grip_trials: list[Any], studies: dict[str, list[Any]]) -> dict[str, Any]:
+    """Against the grip study's default-gait trial (zero gain: the tuned open loop, which
+    ``acl-tune-gait --grip`` runs first), per study of ``studies``, of its trials that held the
+    pole: how many climb at least ``CLIMB_TARGET`` times the open loop's, the least slip per
+    metre among those (as a ratio; None when none does), and how many also slip at most
+    ``SLIP_TARGET`` times its slip per metre. ``ValueError`` without that trial."""
+    reference = next(
+        (
+            t.user_attrs
+            for t in grip_trials
+            if t.state.name == "COMPLETE" and t.user_attrs.get("default_gait")
+        ),
+        None,
+    )
+    if reference is None:
+        raise ValueError("argument --key: its study has no completed default-gait trial")
     climb0, slip0 = reference["climb_per_gait_cycle_m"], reference["slip_per_m"]
     out: dict[str, Any] = {"open_loop": {"climb_per_gait_cycle_m": climb0, "slip_per_m": slip0}}
-    for name in [grip_study, *gait_studies]:
+    for name, trials in studies.items():
         held = [
             t.user_attrs
-            for t in trials(name)
+            for t in trials
             if t.state.name == "COMPLETE" and not t.user_attrs.get("disqualified")
         ]
         climbing = [a for a in held if a["climb_per_gait_cycle_m"] >= CLIMB_TARGET * climb0]
-        least = min((a["slip_per_m"] for a in climbing), default=float("nan"))
+        least = min((a["slip_per_m"] for a in climbing), default=None)
         out[name] = {
             "trials_held": len(held),
             "climb_at_least_target": len(climbing),
-            "least_slip_ratio_among_them": least / slip0,
+            "least_slip_ratio_among_them": None if least is None else least / slip0,
             "in_target_region": sum(a["slip_per_m"] <= SLIP_TARGET * slip0 for a in climbing),
         }
     return out
@@ -142,6 +158,15 @@ def main(argv: list[str] | None = None) -> dict:
         parser.error(f"argument --key: {error}")
     if not grip:
         parser.error(f"argument --key: {args.key!r} is not a grip entry (acl-tune-gait --grip)")
+    studies: dict[str, list[Any]] = {}
+    if args.storage is not None:  # read before minutes of play
+        try:
+            studies[args.key] = load_trials(args.storage, args.key, "--key")
+            for name in args.also_study:
+                studies[name] = load_trials(args.storage, name, "--also-study")
+            region = target_region(studies[args.key], studies)
+        except ValueError as error:
+            parser.error(str(error))
     env_id, seed_list, progress = entry["env_id"], seeds(args), not args.no_progress_bar
     document = {
         "env_id": env_id,
@@ -152,19 +177,16 @@ def main(argv: list[str] | None = None) -> dict:
         "open_loop": by_phase(env_id, {}, seed_list, args.steps_per_cycle, progress),
         "compliant_acl": by_phase(env_id, grip, seed_list, args.steps_per_cycle, progress),
     }
-    if args.storage is not None:
-        document["falls_by_gain"] = falls_by_gain(args.storage, args.key)
-        try:
-            region = target_region(str(args.storage), args.key, args.also_study)
-        except KeyError as error:  # optuna: no study of that name in the storage
-            parser.error(f"argument --also-study: {error}")
+    if studies:
+        document["falls_by_gain"] = falls_by_gain(studies[args.key])
         document["target_region"] = region
         for name, row in region.items():
             if name != "open_loop":
+                least = row["least_slip_ratio_among_them"]
                 print(
                     f"{name}: {row['in_target_region']} of {row['trials_held']} trials climb "
                     f">= {CLIMB_TARGET}x and slip <= {SLIP_TARGET}x the open loop; least slip "
-                    f"at that climb {row['least_slip_ratio_among_them']:.2f}x"
+                    f"at that climb {'none' if least is None else f'{least:.2f}x'}"
                 )
     for name in ("open_loop", "compliant_acl"):
         row = " ".join(f"{v:5.1f}" for v in document[name]["slip_mm"])

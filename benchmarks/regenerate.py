@@ -27,7 +27,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from acl_env import shipped
 from acl_env.evaluation.records import evaluation_summary
 from acl_env.io import read_json, write_json
 from acl_env.pretrained import METADATA_FILE
@@ -36,6 +35,7 @@ from acl_env.scripts import make_parser, write_output
 REPO = Path(__file__).resolve().parent.parent
 DOCS = Path("docs")
 RECORD_FILE = DOCS / "records.json"
+POLICIES = REPO / "acl_env" / "data" / "policies"  # the shipped policies, in this repository
 NOROLL_POLICY = "acl_env/data/policies/acl_climb_noroll_ppo"  # the servo's (arc, video)
 NOROLL_SEA_POLICY = "acl_env/data/policies/acl_climb_noroll_sea_ppo"
 SERVO_POLICY = "acl_env/data/policies/acl_climb_ppo"
@@ -151,18 +151,24 @@ RECORDS: dict[str, Record] = {
 }
 
 
-def refresh_policy_summaries(files: tuple[str, ...]) -> list[str]:
-    """Re-summarise, in each shipped policy's ``policy.json``, the evaluation record it names if
-    that record is one of ``files`` (just made again); return the policies refreshed."""
+def refresh_policy_summaries(files: tuple[str, ...], policies: Path | None = None) -> list[str]:
+    """Re-summarise, in each shipped policy's ``policy.json`` (in ``policies``, by default the
+    repository's :data:`POLICIES`), the evaluation record it names if that record is one of
+    ``files`` (just made again) and is of that policy; return the policies refreshed."""
     refreshed = []
-    for name in shipped.list_policies():
-        path = shipped.policy_dir(name) / METADATA_FILE
+    for path in sorted((policies or POLICIES).glob(f"*/{METADATA_FILE}")):
         metadata = read_json(path)
         record = (metadata.get("evaluation") or {}).get("record")
-        if record in files:
-            metadata["evaluation"] = evaluation_summary(REPO / record)
-            write_json(path, metadata)
-            refreshed.append(name)
+        if record not in files:
+            continue
+        name = path.parent.name
+        summary = evaluation_summary(REPO / record, shown=record)
+        if summary["policy"] != f"acl_env/data/policies/{name}":
+            print(f"{record} is {summary['policy']}'s record, not {name}'s: left as it was")
+            continue
+        metadata["evaluation"] = summary
+        write_json(path, metadata)
+        refreshed.append(name)
     return refreshed
 
 

@@ -117,84 +117,114 @@ def test_regenerate_runs_a_record_from_the_root_and_notes_it(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """A record's command runs in the repository's root with this interpreter; its files are
-    noted with the command and the time (here a stand-in command, not a minutes-long one)."""
+    noted with the command and the time, and the shipped policies' summaries of them refreshed
+    (here a stand-in command, not a minutes-long one, and a stand-in refresh)."""
     regenerate = _regenerate()
     calls: list[tuple[list[str], Path]] = []
+    refreshed: list[tuple[str, ...]] = []
 
     def run(argv: list[str], cwd: Path, check: bool) -> None:
         calls.append((argv, cwd))
 
     monkeypatch.setattr(regenerate["subprocess"], "run", run)
+    monkeypatch.setitem(
+        regenerate["regenerate"].__globals__,
+        "refresh_policy_summaries",
+        lambda files: refreshed.append(files) or [],
+    )
     record = tmp_path / "records.json"
     made = regenerate["regenerate"](["gait"], False, record)
     assert calls == [(regenerate["RECORDS"]["gait"].argv(), ROOT)]
+    assert refreshed == [regenerate["RECORDS"]["gait"].files]
     assert calls[0][0][0] == regenerate["sys"].executable
     assert json.loads(record.read_text()) == made
     assert made["docs/gait.png"]["command"] == "python -m acl_env.gait --plot docs/gait.png"
 
 
 def test_regenerate_refreshes_the_summary_of_the_policy_whose_record_it_made(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A shipped policy's policy.json summarises its published record: remaking that record
-    re-summarises it there; remaking another record leaves it as it was."""
+    re-summarises it there; remaking another record, or a record now of another policy, leaves
+    it as it was."""
     import shutil
 
     from acl_env import shipped
     from acl_env.evaluation.records import evaluation_summary
 
-    folder = tmp_path / "acl_climb_compliant_ppo"
-    shutil.copytree(shipped.policy_dir("acl_climb_compliant_ppo"), folder)
-    metadata_path = folder / "policy.json"
+    for name in ("acl_climb_compliant_ppo", "acl_climb_sea_ppo"):
+        shutil.copytree(shipped.policy_dir(name), tmp_path / name)
+    metadata_path = tmp_path / "acl_climb_compliant_ppo" / "policy.json"
     metadata = json.loads(metadata_path.read_text())
     record = metadata["evaluation"]["record"]
     metadata["evaluation"]["controllers"]["policy"]["slip_per_m"]["mean"] = 1.0  # stale
     metadata_path.write_text(json.dumps(metadata))
-    monkeypatch.setattr(shipped, "list_policies", lambda: ["acl_climb_compliant_ppo"])
-    monkeypatch.setattr(shipped, "policy_dir", lambda name: tmp_path / name)
+    other_path = tmp_path / "acl_climb_sea_ppo" / "policy.json"
+    other = json.loads(other_path.read_text())
+    other["evaluation"]["record"] = record  # names the compliant policy's record
+    other_path.write_text(json.dumps(other))
     refresh = _regenerate()["refresh_policy_summaries"]
 
-    assert refresh(("docs/eval.json", "docs/eval.png")) == []
+    assert refresh(("docs/eval.json", "docs/eval.png"), tmp_path) == []
     assert json.loads(metadata_path.read_text()) == metadata
-    assert refresh((record,)) == ["acl_climb_compliant_ppo"]
+    assert refresh((record,), tmp_path) == ["acl_climb_compliant_ppo"]
+    assert "not acl_climb_sea_ppo's: left as it was" in capsys.readouterr().out
+    assert json.loads(other_path.read_text()) == other
     refreshed = json.loads(metadata_path.read_text())
-    assert refreshed["evaluation"] == json.loads(json.dumps(evaluation_summary(ROOT / record)))
+    assert refreshed["evaluation"] == evaluation_summary(ROOT / record, shown=record)
     assert refreshed["evaluation"]["controllers"]["policy"]["slip_per_m"]["mean"] < 0.2
     assert {k: v for k, v in refreshed.items() if k != "evaluation"} == {
         k: v for k, v in metadata.items() if k != "evaluation"
     }
 
 
-def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(tmp_path: Path) -> None:
-    """benchmarks/grip_slip.py's target region: against trial 0 of the grip study (the open
-    loop), trials that held the pole, climbed >= 0.95x and slid <= 0.7x; fallen ones left out."""
+def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """benchmarks/grip_slip.py's target region: against the grip study's default-gait trial
+    (the open loop), trials that held the pole, climbed >= 0.95x and slid <= 0.7x; fallen ones
+    left out. A study that is not there is named, with its argument, before any play."""
     optuna = pytest.importorskip("optuna")
+    grip_key = "acl_sea_grip"  # the study of the shipped grip entry
     storage = tmp_path / "studies.db"
-    url = f"sqlite:///{storage}"
+    script = runpy.run_path(str(ROOT / "benchmarks" / "grip_slip.py"))
 
     def study(name: str, rows: list[tuple[float, float, str | None]]) -> None:
-        made = optuna.create_study(study_name=name, storage=url, direction="maximize")
-        for climb, slip, disqualified in rows:
+        made = optuna.create_study(
+            study_name=name, storage=f"sqlite:///{storage}", direction="maximize"
+        )
+        for i, (climb, slip, disqualified) in enumerate(rows):
             trial = made.ask()
             trial.set_user_attr("climb_per_gait_cycle_m", climb)
             trial.set_user_attr("slip_per_m", slip)
+            if name == grip_key and i == 1:
+                trial.set_user_attr("default_gait", True)  # not trial 0 here: found by its mark
             if disqualified:
                 trial.set_user_attr("disqualified", disqualified)
             made.tell(trial, climb)
 
-    # open loop 0.20 m, 0.20 per m; then in the region, too slow, too slippery, fell
-    study("grip", [(0.20, 0.20, None), (0.195, 0.13, None), (0.18, 0.10, None), (0.21, 0.15, None)])
-    study("gait", [(0.20, 0.20, None), (0.20, 0.10, "fell"), (0.20, 0.18, None)])
-    region = runpy.run_path(str(ROOT / "benchmarks" / "grip_slip.py"))["target_region"](
-        str(storage), "grip", ["gait"]
+    # in the region; the open loop 0.20 m, 0.20 per m; too slow; too slippery
+    study(
+        grip_key, [(0.195, 0.13, None), (0.20, 0.20, None), (0.18, 0.10, None), (0.21, 0.15, None)]
     )
+    study("gait", [(0.20, 0.10, "fell"), (0.20, 0.18, None)])
+    studies = {name: script["load_trials"](storage, name, "--key") for name in (grip_key, "gait")}
+    region = script["target_region"](studies[grip_key], studies)
     assert region["open_loop"] == {"climb_per_gait_cycle_m": 0.20, "slip_per_m": 0.20}
-    assert region["grip"]["trials_held"] == 4 and region["grip"]["climb_at_least_target"] == 3
-    assert region["grip"]["in_target_region"] == 1
-    assert region["grip"]["least_slip_ratio_among_them"] == pytest.approx(0.65)
+    assert region[grip_key]["trials_held"] == 4 and region[grip_key]["climb_at_least_target"] == 3
+    assert region[grip_key]["in_target_region"] == 1
+    assert region[grip_key]["least_slip_ratio_among_them"] == pytest.approx(0.65)
     assert region["gait"] == {
-        "trials_held": 2,
-        "climb_at_least_target": 2,
+        "trials_held": 1,
+        "climb_at_least_target": 1,
         "least_slip_ratio_among_them": pytest.approx(0.9),
         "in_target_region": 0,
     }
+    with pytest.raises(ValueError, match="no completed default-gait trial"):
+        script["target_region"](studies["gait"], studies)
+    for key, option in (("acl_noroll_sea_grip", "--key"), (grip_key, "--also-study")):
+        argv = ["--key", key, "--storage", str(storage), "--also-study", "nope"]
+        with pytest.raises(SystemExit):
+            script["main"]([*argv, "--json", str(tmp_path / "x.json")])
+        assert f"argument {option}: no study" in capsys.readouterr().err
+    assert not (tmp_path / "x.json").exists()

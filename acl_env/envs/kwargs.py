@@ -75,16 +75,19 @@ def _matches(value: Any, hint: Any) -> bool:
 
 def make_quietly(env_id: str, **env_kwargs: Any) -> gymnasium.Env:
     """``gymnasium.make`` without gymnasium's note that ``env_id`` has a newer version: for the
-    ids the library spells itself (a benchmark task as its base id and kwargs, a probe), where
-    the note is about that spelling, not about an id the user chose."""
+    ids the library spells itself (the evaluation's controllers: a benchmark task as its base id
+    and kwargs, the base gaits), where the note is about that spelling, not an id the user chose."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", ".*is out of date", DeprecationWarning)
         return gymnasium.make(env_id, **env_kwargs)
 
 
-def check_env_kwargs(env_id: str, env_kwargs: Mapping[str, Any]) -> gymnasium.Env:
+def check_env_kwargs(
+    env_id: str, env_kwargs: Mapping[str, Any], quiet: bool = False
+) -> gymnasium.Env:
     """Check ``env_kwargs`` against the env's signature (names, annotated types), then build one
-    env with them so its own validation runs; return that env (the caller closes it)."""
+    env with them so its own validation runs; return that env (the caller closes it). ``quiet``:
+    an id the library spelled, built by :func:`make_quietly`."""
     creator = env_creator(env_id)
     signature = inspect.signature(creator)
     params = [p for p in signature.parameters if p != "self"]
@@ -104,7 +107,8 @@ def check_env_kwargs(env_id: str, env_kwargs: Mapping[str, Any]) -> gymnasium.En
             )
     spec_kwargs = dict(gymnasium.spec(env_id).kwargs)
     try:
-        return make_quietly(env_id, **{**spec_kwargs, **env_kwargs})
+        make = make_quietly if quiet else gymnasium.make
+        return make(env_id, **{**spec_kwargs, **env_kwargs})
     except (TypeError, ValueError) as error:
         message = str(error).split(" was raised from the environment creator")[0]
         raise ConfigError(f"env kwargs refused by {env_id}: {message}") from None

@@ -102,7 +102,8 @@ class Controller:
 
     def make_env(self, **extra: Any) -> gymnasium.Env:
         """The controller's env (``extra`` over its kwargs, e.g. ``render_mode``)."""
-        # A benchmark task is spelled on its base id (spelled_on_base): no note that it is old.
+        # The evaluation spells the ids (a benchmark task on its base id, spelled_on_base; the
+        # base gaits); a version note would be about that, and an old policy cannot upgrade.
         return make_quietly(self.env_id, **{**self.env_kwargs, **extra})
 
     def make_policy(self, env: gymnasium.Env) -> Policy:

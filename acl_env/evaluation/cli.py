@@ -207,7 +207,8 @@ def _checked_controllers(
         parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
     for controller in controllers:
         try:
-            env = check_env_kwargs(controller.env_id, controller.env_kwargs)
+            # quiet: the evaluation spells its controllers' ids (Controller.make_env)
+            env = check_env_kwargs(controller.env_id, controller.env_kwargs, quiet=True)
         except (ValueError, TypeError, ArithmeticError) as error:
             parser.error(f"argument --env-kwargs: {controller.name}: {error}")
         try:

@@ -137,9 +137,10 @@ def metric_values(record: Mapping[str, Any], controller: str, metric: str) -> li
     return [math.nan if v is None else float(v) for v in values]
 
 
-def evaluation_summary(record_path: str | Path) -> dict[str, Any]:
+def evaluation_summary(record_path: str | Path, shown: str | None = None) -> dict[str, Any]:
     """Per controller of a published evaluation record, the mean and 95 % half-width of
-    :data:`SUMMARY_METRICS` (and the number of falls)."""
+    :data:`SUMMARY_METRICS` (and the number of falls); the record named ``shown``, by default
+    as :func:`~acl_env.evaluation.baselines.shown_path` shows it from the working folder."""
     from acl_env.evaluation.baselines import shown_path  # the env stack: imported when needed
 
     record = read_record(Path(record_path))
@@ -155,7 +156,7 @@ def evaluation_summary(record_path: str | Path) -> dict[str, Any]:
         controllers[name] = entry
         episodes = summary.get("episodes", episodes)
     return {
-        "record": shown_path(record_path),
+        "record": shown if shown is not None else shown_path(record_path),
         "policy": record.get("policy"),
         "episodes": episodes,
         "interval": "mean and Student-t 95 % half-width over the episodes",

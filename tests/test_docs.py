@@ -47,3 +47,14 @@ def test_results_page_reads_the_records(site: Path, record: str) -> None:
     climb = policy["climb_per_gait_cycle_m"]
     assert f"{100 * climb['mean']:.2f} ± {100 * climb['half_width']:.2f}" in page
     assert "<!-- results:" not in page
+
+
+@pytest.mark.parametrize("name", ["acl_climb_sea_ppo", "acl_climb_compliant_ppo"])
+def test_results_page_names_the_registered_task_of_each_policy(site: Path, name: str) -> None:
+    """A record runs a benchmark task as its base id and kwargs; the page names the task the
+    policy was trained on, its policy.json's id."""
+    page = (site / "results" / "index.html").read_text()
+    env_id = json.loads((ROOT / "acl_env/data/policies" / name / "policy.json").read_text())[
+        "env_id"
+    ]
+    assert f"Task:</strong> <code>{env_id}</code>" in page

@@ -103,10 +103,19 @@ def _label(name: str) -> str:
     return f"{LABELS.get(name, name)} (`{name}`)"
 
 
+def _task(record: dict[str, Any], docs_dir: Path) -> str:
+    """The registered id the policy was trained on (its policy.json's ``env_id``); the record
+    names the id it ran, a benchmark task spelled as its base id and keyword arguments."""
+    metadata = docs_dir.parent / (record.get("policy") or "-") / "policy.json"
+    if metadata.is_file():
+        return json.loads(metadata.read_text())["env_id"]
+    return record["env_ids"]["policy"]
+
+
 def _headline(record: dict[str, Any], name: str, docs_dir: Path) -> str:
     controllers = record["controllers"]
     header = [
-        f"`{record['env_ids']['policy']}`",
+        f"`{_task(record, docs_dir)}`",
         "climb per gait cycle (cm)",
         "slip per metre climbed",
         "energy (J/m)",
@@ -178,7 +187,9 @@ def _ratios(record: dict[str, Any], name: str, docs_dir: Path) -> str:
 
 
 def _notes(record: dict[str, Any], name: str, docs_dir: Path) -> str:
-    lines = [f"- **Task:** `{record['env_ids']['policy']}`, policy `{record['policy']}`."]
+    task, ran = _task(record, docs_dir), record["env_ids"]["policy"]
+    spelled = "" if task == ran else f" (run as `{ran}` with the task's keyword arguments)"
+    lines = [f"- **Task:** `{task}`{spelled}, policy `{record['policy']}`."]
     weights = record.get("env_kwargs", {}).get("policy", {}).get("reward_weights")
     if weights:
         terms = ", ".join(f"{k} {v:g}" for k, v in weights.items())

@@ -90,7 +90,8 @@ def target_region(grip_trials: list[Any], studies: dict[str, list[Any]]) -> dict
     ``acl-tune-gait --grip`` runs first), per study of ``studies``, of its trials that held the
     pole: how many climb at least ``CLIMB_TARGET`` times the open loop's, the least slip per
     metre among those (as a ratio; None when none does), and how many also slip at most
-    ``SLIP_TARGET`` times its slip per metre. ``ValueError`` without that trial."""
+    ``SLIP_TARGET`` times its slip per metre; and the least energy per metre of any that held.
+    ``ValueError`` without that trial."""
     reference = next(
         (
             t.user_attrs
@@ -102,7 +103,13 @@ def target_region(grip_trials: list[Any], studies: dict[str, list[Any]]) -> dict
     if reference is None:
         raise ValueError("argument --key: its study has no completed default-gait trial")
     climb0, slip0 = reference["climb_per_gait_cycle_m"], reference["slip_per_m"]
-    out: dict[str, Any] = {"open_loop": {"climb_per_gait_cycle_m": climb0, "slip_per_m": slip0}}
+    out: dict[str, Any] = {
+        "open_loop": {
+            "climb_per_gait_cycle_m": climb0,
+            "slip_per_m": slip0,
+            "energy_per_m": reference["energy_per_m"],
+        }
+    }
     for name, trials in studies.items():
         held = [
             t.user_attrs
@@ -116,6 +123,7 @@ def target_region(grip_trials: list[Any], studies: dict[str, list[Any]]) -> dict
             "climb_at_least_target": len(climbing),
             "least_slip_ratio_among_them": None if least is None else least / slip0,
             "in_target_region": sum(a["slip_per_m"] <= SLIP_TARGET * slip0 for a in climbing),
+            "least_energy_per_m": min((a["energy_per_m"] for a in held), default=None),
         }
     return out
 

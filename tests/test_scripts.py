@@ -197,6 +197,7 @@ def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(
             trial = made.ask()
             trial.set_user_attr("climb_per_gait_cycle_m", climb)
             trial.set_user_attr("slip_per_m", slip)
+            trial.set_user_attr("energy_per_m", 1000 * slip)
             if name == grip_key and i == 1:
                 trial.set_user_attr("default_gait", True)  # not trial 0 here: found by its mark
             if disqualified:
@@ -210,7 +211,12 @@ def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(
     study("gait", [(0.20, 0.10, "fell"), (0.20, 0.18, None)])
     studies = {name: script["load_trials"](storage, name, "--key") for name in (grip_key, "gait")}
     region = script["target_region"](studies[grip_key], studies)
-    assert region["open_loop"] == {"climb_per_gait_cycle_m": 0.20, "slip_per_m": 0.20}
+    assert region["open_loop"] == {
+        "climb_per_gait_cycle_m": 0.20,
+        "slip_per_m": 0.20,
+        "energy_per_m": 200.0,
+    }
+    assert region[grip_key]["least_energy_per_m"] == pytest.approx(100.0)
     assert region[grip_key]["trials_held"] == 4 and region[grip_key]["climb_at_least_target"] == 3
     assert region[grip_key]["in_target_region"] == 1
     assert region[grip_key]["least_slip_ratio_among_them"] == pytest.approx(0.65)
@@ -219,6 +225,7 @@ def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(
         "climb_at_least_target": 1,
         "least_slip_ratio_among_them": pytest.approx(0.9),
         "in_target_region": 0,
+        "least_energy_per_m": pytest.approx(180.0),  # the fallen trial's 100 left out
     }
     with pytest.raises(ValueError, match="no completed default-gait trial"):
         script["target_region"](studies["gait"], studies)

@@ -80,7 +80,7 @@ class PhaseSums:
         self.climb[b] += info["climb"]
         self.rate[b] += info["phase_rate"]
         self.keyframes += info["phase_rate"]
-        played = np.asarray(action, dtype=float)
+        played = np.clip(np.asarray(action, dtype=float), -1.0, 1.0)  # as the env plays it
         rms = float(np.sqrt(np.mean(played[: self.n_joints] ** 2)))
         self.residual[b] += self.residual_scale * rms
         if self.grip_target is not None:

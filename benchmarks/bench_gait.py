@@ -4,7 +4,7 @@ Prints the time to build the keyframe table (``factory().cycle()``: a fresh gait
 median wall and CPU time; ``ACLGait`` builds its table when constructed, to decide its twist on
 it, the rolling helix on the first ``cycle()``), one ``joint_angles()`` call, and one control step
 (indexing the cached table), then the FK fit of the chain to the backbone and the measured body
-rolls per cycle. Exits 1 if the default ACL table misses the issue's 50 ms budget (wall time; run
+rolls per cycle. Exits 1 if the default ACL table misses the project's 50 ms budget (wall time; run
 it on an idle machine).
 """
 

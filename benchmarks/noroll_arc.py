@@ -1,4 +1,4 @@
-"""Each module's touched arc on the non-rolling task: open loop against a policy (issue 11).
+"""Each module's touched arc on the non-rolling task: open loop against a policy.
 
 ``python benchmarks/noroll_arc.py [--policy FOLDER] [--episodes 5] [--plot PATH] [--json PATH]
 [--env-kwargs KEY:VALUE ...]`` (``--out`` is ``--plot``; default ``runs/noroll_arc.png``)
@@ -16,7 +16,7 @@ Controllers, episode ``i`` of each resetting with seed ``seed + i``
 * ``open_loop_rolling_acl``: the rolling ACL (``acl_env/ACLClimb-v1``), for reference.
 
 Prints, per controller, the largest touched arc of any module (mean and max over episodes) and
-the modules above the issue's 90 degrees; draws each module's touched arc (bars: mean over
+the modules above the task's 90-degree target; draws each module's touched arc (bars: mean over
 episodes, whiskers: the largest) and where on each module's circumference the pole touched
 (share of episodes per 10-degree bin, angle about the module's axis from its y axis), as
 :data:`acl_env.evaluation.METRICS`' ``touched_arc_deg`` measures it.
@@ -54,7 +54,7 @@ from acl_env.scripts import (
 from acl_env.training import cli
 from acl_env.training.policy import read_policy_folder
 
-ARC_TARGET_DEG = 90.0  # issue 11: at most 90 degrees on every module, every episode
+ARC_TARGET_DEG = 90.0  # the non-rolling task's target: at most 90 deg on every module and episode
 
 
 def build(

@@ -309,7 +309,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     if args.trials < 5:
-        parser.error("--trials must be at least 5 (the issue asks for >= 5 randomised trials)")
+        parser.error("--trials must be at least 5 (the comparison asks for >= 5 randomised trials)")
 
     jobs = [Rollout(ACL_ID, dict(kw), args.seed) for kw in (*SETTINGS, NON_ROLLING)]
     seeds = range(args.seed, args.seed + args.trials)

@@ -51,7 +51,7 @@ class ParamRange:
 # more than 10 % of their joint angles and are disqualified without a rollout):
 # - squeeze -0.4 to 1.6 cm: from a loose helix (-0.4 cm climbs 0.141 m/cycle at default waves, the
 #   grip giving way) to twice the default 0.8 cm (1.2 cm costs 1549 J/m against 1176: the energy
-#   grows with the squeeze; issue 9's figures, v0 physics). The helix radius 10.04 cm - squeeze
+#   grows with the squeeze; measured with the v0 physics). The helix radius 10.04 cm - squeeze
 #   stays far above A_r. The tuned non-rolling gait sits at 1.57 cm; with its waves, 1.9 cm scores
 #   less (and clips 13 %) and 2.3 cm rolls (3 seeds, v1), and a 140-trial study with squeeze up
 #   to 3 cm found nothing better (best reward 0.0006 against 0.0212).

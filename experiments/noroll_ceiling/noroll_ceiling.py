@@ -19,12 +19,12 @@ their whole cycles never reach):
   partial roll, the rolling gait's mechanism, spend the rest on climbing?
 
 Printed and in the JSON, per cell: climb per gait cycle (mean and 95 % CI,
-:func:`acl_env.evaluation.mean_ci95`), the largest touched arc (the issue's judge, at most 90
+:func:`acl_env.evaluation.mean_ci95`), the largest touched arc (the task's judge, at most 90
 deg), the largest swept body roll (``info["roll_span_deg"]``, which the env's ``roll_limit``
 bounds), the episodes whose roll swept past the env's limit and the falls. A cell *holds* when
 no episode fell, touched more than 90 deg or rolled past the limit. The summary names the best
 cell that held, as a multiple
-of the registered gait measured in the same run, beside the issue's 1.5x target. With
+of the registered gait measured in the same run, beside the project's 1.5x target. With
 ``--policy-eval`` (an ``acl-evaluate --json`` file) the plot also marks that policy's climb.
 ``experiments/noroll_two_stage/noroll_limits.py`` is the older, point-wise sweep of v2's gait.
 """
@@ -46,8 +46,8 @@ from acl_env.evaluation.records import controller_summary, read_record
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 from acl_env.training import cli
 
-TARGET_RATIO = 1.5  # issue 11: the policy's climb over the tuned non-rolling open loop
-ARC_LIMIT_DEG = 90.0  # issue 11: the touched arc allowed on every module
+TARGET_RATIO = 1.5  # the project's target: the policy's climb over the tuned non-rolling open loop
+ARC_LIMIT_DEG = 90.0  # the non-rolling task's limit: the touched arc allowed on every module
 WAVE_SCALES = (0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2)
 WAVES = {"A_p": ("amp_pitch",), "A_r": ("amp_radial",), "A_p and A_r": ("amp_pitch", "amp_radial")}
 FRICTIONS = (0.5, 0.7, 1.0, 1.5, 2.0, 3.0, 5.0)
@@ -122,7 +122,7 @@ def held(row: dict[str, Any]) -> bool:
 
 
 def summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """The registered gait's climb, the best cell that held, and the issue's target."""
+    """The registered gait's climb, the best cell that held, and the project's target."""
     registered = rows[0]["climb_per_gait_cycle_cm"]
     held_rows = [row for row in rows if held(row)]
     best = max(held_rows, key=lambda r: r["climb_per_gait_cycle_cm"], default=None)

@@ -124,7 +124,7 @@ def plot(summaries: dict[str, dict[str, Any]], path: Path) -> None:
     ax.set_yticks(range(0, 361, 90))
     episodes = len(next(iter(summaries.values()))["largest_arc_deg"])
     ax.set_title(f"touched arc per module: mean over {episodes} episodes, whisker: largest")
-    ax.legend(fontsize=8, ncol=2)
+    ax.legend(fontsize=10, ncol=2)  # the docs show the figure about 690 px wide
     for row, name in enumerate(names, start=1):
         share = summaries[name]["bin_touch_share"]
         axh = fig.add_subplot(grid[row])

@@ -159,7 +159,7 @@ def plot(document: dict, path: Path) -> None:
     axes[1, 1].set_title("the policy's residual and cadence")
     for ax in axes.flat:
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=10)  # the docs show the figure about 690 px wide
     for ax in axes[1]:
         ax.set_xlabel("phase of the gait cycle")
     fig.suptitle(f"{document['env_id']}: {document['policy_dir']}, {len(document['seeds'])} seeds")

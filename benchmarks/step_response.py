@@ -146,8 +146,8 @@ def plot(document: dict[str, Any], path: Any) -> None:
         ax.set_title(title)
         ax.set_xlabel("time (s)")
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
-    axes[2].legend(fontsize=7)
+    axes[0].legend(fontsize=10)  # the docs show the figure about 690 px wide
+    axes[2].legend(fontsize=10)
     fig.suptitle(f"One joint's step response ({document['step']} rad step, 3-module load)")
     save_figure(fig, path, dpi=110, tight=True)
 

@@ -266,7 +266,7 @@ def plot(path: Path, rows: Sequence[Rollout], table2: dict[str, dict[str, float 
     ax.set_xticks(idx, [setting_label(r) for r in rows], fontsize=8)
     ax.set_ylabel("displacement over 2 cycles (cm)")
     ax.set_title("Table 1 here: Eq. 6 estimate vs MuJoCo (label: error %)")
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=10, loc="upper left")  # the docs show the figure about 690 px wide
 
     ax = axes[1]
     ax.bar(idx - 0.2, PAPER_TABLE1["estimated_cm"], 0.4, label="estimated", color="C0", alpha=0.5)
@@ -275,7 +275,7 @@ def plot(path: Path, rows: Sequence[Rollout], table2: dict[str, dict[str, float 
     ax.set_xlabel("paper trial")
     ax.set_ylim(axes[0].get_ylim())
     ax.set_title("Table 1 of the paper (SEA snake)")
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=10, loc="lower right")
 
     ax = axes[2]
     keys, names = ("rolling_helix", "acl"), ("rolling\nhelix", "ACL")
@@ -287,7 +287,7 @@ def plot(path: Path, rows: Sequence[Rollout], table2: dict[str, dict[str, float 
     ax.set_xticks(pos, names)
     ax.set_ylim(axes[0].get_ylim())
     ax.set_title(f"Table 2 (n = {table2['acl']['n']}, mean +- std)")
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=10, loc="lower right")
     save_figure(fig, path, 120, tight=True)
 
 

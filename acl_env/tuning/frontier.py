@@ -99,7 +99,9 @@ def render_frontier(
         for t in other.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,))
     ]
     default = next((t for t in complete if t.user_attrs.get("default_gait")), None)
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
+    # The docs show this 1440 px figure about 690 px wide: one legend for both panels sits below
+    # them, in a font readable there, where it covers no point (the figure grows to hold it).
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.6), constrained_layout=True)
     colours = ("tab:orange", "tab:pink", "tab:cyan", "tab:brown")
     for ax, (metric, label, maximize) in zip(axes, FRONTIER_PANELS, strict=True):
 
@@ -172,10 +174,10 @@ def render_frontier(
             ax.set_ylim(y_lo - pad, y_hi + pad)
         hidden = len(trials) - len(ok) - len(out)
         clip = f"{settings.max_clipped:.0%}"
-        note = f"not shown: {hidden} gaits that did not climb\nor clipped over {clip} of the joints"
+        note = f"not shown: {hidden} gaits that did not climb or clipped over {clip} of the joints"
         if beyond:
             note += f";\n{beyond} beyond the axes"
-        ax.plot([], [], " ", label=note)  # in the legend, which finds a place clear of the points
+        ax.set_title(note, fontsize=10)
         lo, hi = ax.get_xlim()
         if hi / lo > 10.0:  # a log axis only where the energies span more than a decade
             ax.set_xscale("log")
@@ -183,8 +185,12 @@ def render_frontier(
         ax.set_xlabel("energy per metre climbed (J/m)")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7, loc="best")
-    fig.suptitle(title, fontsize=9)
+    legend = {}  # label -> handle, over both panels (a policy may lack one panel's metric)
+    for ax in axes:
+        for handle, name in zip(*ax.get_legend_handles_labels(), strict=True):
+            legend.setdefault(name, handle)
+    fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=4, fontsize=11)
+    fig.suptitle(title, fontsize=11)
     buffer = io.BytesIO()
     fig.savefig(buffer, format=image_format or "png", dpi=120)
     plt.close(fig)

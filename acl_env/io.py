@@ -4,11 +4,13 @@
 from __future__ import annotations
 
 import ast
+import contextlib
 import json
 import math
 import os
+import sys
 import tempfile
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -185,3 +187,99 @@ def parse_kv_pairs(items: Iterable[str] | None, option: str = "key:value") -> di
             raise ValueError(f"{option}: {key!r} given twice")
         result[key] = value
     return result
+
+
+# --- standard streams: a reader that goes away (``| head -1``) loses its output, never the work
+
+
+class GuardedStream:
+    """A text stream whose failures are not the writer's problem: the first write or flush that
+    fails (a broken pipe, a closed terminal) points the stream's file descriptor at
+    ``os.devnull`` (so that later writers, Python's final flush included, succeed) and from then
+    on output is dropped. Everything else is the wrapped stream's."""
+
+    def __init__(self, stream: Any, name: str) -> None:
+        self.stream, self.name = stream, name
+        self.lost: str | None = None  # why the output was lost
+
+    def write(self, text: str) -> int:
+        if self.lost is None:
+            try:
+                return self.stream.write(text)
+            except (OSError, ValueError) as error:  # ValueError: a closed file
+                self.lose(error)
+        return len(text)
+
+    def writelines(self, lines: Any) -> None:
+        for line in lines:
+            self.write(line)
+
+    def flush(self) -> None:
+        if self.lost is None:
+            try:
+                self.stream.flush()
+            except (OSError, ValueError) as error:
+                self.lose(error)
+
+    def lose(self, error: BaseException) -> None:
+        """Drop this stream's output from now on (``error`` is why)."""
+        self.lost = f"{type(error).__name__}: {error}"
+        with contextlib.suppress(OSError, ValueError):
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            try:
+                os.dup2(devnull, self.stream.fileno())
+            finally:
+                os.close(devnull)
+        with contextlib.suppress(OSError, ValueError):
+            self.stream.flush()  # what the buffer still holds goes to devnull (or stays)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
+
+
+class GuardedOutput:
+    """The guarded ``sys.stdout`` and ``sys.stderr`` of :func:`guarded_output`."""
+
+    def __init__(self, streams: list[GuardedStream]) -> None:
+        self.streams = streams
+
+    @property
+    def lost(self) -> dict[str, str]:
+        """The streams whose output was lost, and why."""
+        return {s.name: s.lost for s in self.streams if s.lost is not None}
+
+
+@contextlib.contextmanager
+def guarded_output() -> Iterator[GuardedOutput]:
+    """Replace ``sys.stdout`` and ``sys.stderr`` by :class:`GuardedStream` s while the block runs
+    (``print``, loggers and progress bars that look the streams up then write through them);
+    on exit flush them, still guarded, and put the originals back. Nested, it reuses the guards
+    in place."""
+    originals = sys.stdout, sys.stderr
+    guarded = [
+        s if isinstance(s, GuardedStream) else GuardedStream(s, n)
+        for s, n in zip(originals, ("stdout", "stderr"), strict=True)
+        if s is not None
+    ]
+    for stream in guarded:
+        setattr(sys, stream.name, stream)
+    try:
+        yield GuardedOutput(guarded)
+    finally:
+        for stream in guarded:
+            stream.flush()
+        sys.stdout, sys.stderr = originals
+
+
+def console_script(main: Callable[[], object]) -> Callable[[], None]:
+    """A console-script entry point for ``main``: ``main()`` with the standard streams guarded
+    (:func:`guarded_output`: a closed pipe drops what is printed after it, and the command goes
+    on to write every file it was asked for and exits 0), whatever it returns dropped (a
+    console script runs ``sys.exit(target())``, which would print a returned document and exit
+    with status 1)."""
+
+    def run() -> None:
+        with guarded_output():
+            main()
+
+    return run

@@ -23,12 +23,8 @@ import pytest
 from stable_baselines3.common.callbacks import BaseCallback
 from test_trainer import EPS, ROLLOUT, SignalInRollout, load, run, sigint_handled, tiny_argv
 
-from acl_env.training.signals import (
-    GuardedStream,
-    deferred_signals,
-    guarded_output,
-    is_output_failure,
-)
+from acl_env.io import GuardedStream, guarded_output
+from acl_env.training.signals import deferred_signals, is_output_failure
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -19,6 +19,7 @@ from acl_env.gait.curves import PitchVaryingHelix, sample_curve
 from acl_env.gait.gaits import DEFAULT_POLE_RADIUS, ACLGait, Gait, RollingHelixGait
 from acl_env.gait.kinematics import place_chain
 from acl_env.gait.summary import summary
+from acl_env.io import console_script
 
 PLOT_PHASES = (0.0, 0.25, 0.5, 0.75)
 
@@ -142,5 +143,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     return 0
 
 
+# The console script (pyproject.toml) and ``python -m acl_env.gait``.
+run = console_script(main)
+
 if __name__ == "__main__":
-    raise SystemExit(main())
+    run()

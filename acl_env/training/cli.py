@@ -179,14 +179,3 @@ def pairs_to_dict(option: str, pairs: Sequence[tuple[str, Any]] | None) -> dict[
     if twice is not None:
         raise argparse.ArgumentTypeError(f"argument {option}: {twice!r} given twice")
     return dict(pairs or ())
-
-
-def script(main: Callable[[], object]) -> Callable[[], None]:
-    """A console-script entry point for ``main``: it runs ``main()`` and drops what it returns.
-    ``main`` returns its document for callers in Python; a console script runs
-    ``sys.exit(target())``, which would print that document and exit with status 1."""
-
-    def run() -> None:
-        main()
-
-    return run

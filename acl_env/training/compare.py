@@ -18,7 +18,7 @@ from typing import Any
 
 from acl_env.evaluation import format_paired, paired_differences
 from acl_env.evaluation.records import controller_env, controller_summary, read_record
-from acl_env.io import write_json
+from acl_env.io import console_script, write_json
 from acl_env.training import cli
 
 # Env kwargs that set the conditions an episode is played under (acl-evaluate's --env-kwargs and
@@ -84,11 +84,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     except (ValueError, OSError) as err:  # not an evaluation record, or unreadable
         parser.error(str(err))
     a, b = result["labels"]
-    print(format_paired({b: result["paired"]}, reference=f"{a} ({args.controller})"))
-    if args.json:
+    if args.json:  # the file first, then the printing
         write_json(args.json, result)
+    print(format_paired({b: result["paired"]}, reference=f"{a} ({args.controller})"))
     return result
 
 
 # The console script (pyproject.toml): main() without its returned document.
-run = cli.script(main)
+run = console_script(main)

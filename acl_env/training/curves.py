@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
-from acl_env.io import atomic_output, write_json
+from acl_env.io import atomic_output, console_script, write_json
 from acl_env.training import cli
 
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
@@ -98,10 +98,13 @@ def main(argv: Sequence[str] | None = None) -> None:
     with atomic_output(args.out) as path:
         fig.savefig(path, dpi=110)
     plt.close(fig)
-    print(f"wrote {args.out}")
-    if args.json:
+    if args.json:  # every file first, then the printing
         write_json(args.json, data, indent=None)
+    print(f"wrote {args.out}")
 
+
+# The console script (pyproject.toml).
+run = console_script(main)
 
 if __name__ == "__main__":
-    main()
+    run()

@@ -28,7 +28,7 @@ import numpy as np
 
 from acl_env.evaluation.baselines import on_benchmark_id
 from acl_env.evaluation.records import evaluation_summary
-from acl_env.io import atomic_write, read_json, write_json
+from acl_env.io import atomic_write, console_script, read_json, write_json
 from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
 from acl_env.training import cli
 from acl_env.training.policy import PolicyFolder, read_sb3_folder
@@ -207,4 +207,4 @@ def main(argv: Sequence[str] | None = None) -> Path:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

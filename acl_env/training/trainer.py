@@ -32,6 +32,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from acl_env.io import GuardedOutput, console_script, guarded_output
 from acl_env.training import warm_start
 from acl_env.training.checks import ConfigError
 from acl_env.training.config import algo_kwargs, normalize_kwargs, save_hyperparams
@@ -56,12 +57,7 @@ from acl_env.training.runs import (
     save_model,
     write_json,
 )
-from acl_env.training.signals import (
-    GuardedOutput,
-    deferred_signals,
-    guarded_output,
-    is_output_failure,
-)
+from acl_env.training.signals import deferred_signals, is_output_failure
 from acl_env.training.timing import StepTimer as StepTimer
 from acl_env.training.timing import Timed, timed_env, workers_cpu_seconds
 
@@ -417,10 +413,12 @@ def train(argv: Sequence[str] | None = None, restore_signals: bool = True) -> Pa
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    """Entry point (``acl-train``, ``python -m acl_env.training.trainer``); returns None, so that a
-    console script's ``sys.exit(main())`` exits 0. Signals after the save are ignored."""
+    """Train from the command line (``acl-train``); signals after the save are ignored."""
     train(argv, restore_signals=False)
 
 
+# The console script (pyproject.toml) and ``python -m acl_env.training.trainer``.
+run = console_script(main)
+
 if __name__ == "__main__":
-    main()
+    run()

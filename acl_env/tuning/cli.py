@@ -31,8 +31,8 @@ import yaml
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, shipped, tuned_gaits
 from acl_env.envs.arguments import CYCLES_PER_EPISODE_RANGE, STEPS_PER_CYCLE_RANGE
 from acl_env.gait.gaits import DEFAULT_POLE_RADIUS
-from acl_env.io import atomic_write, jsonable
-from acl_env.training.cli import ArgumentParser, pairs_to_dict, reward_weight, script
+from acl_env.io import atomic_write, console_script, jsonable
+from acl_env.training.cli import ArgumentParser, pairs_to_dict, reward_weight
 from acl_env.training.config import load_hyperparams
 from acl_env.tuning.checks import (
     SAMPLER_SEED_RANGE,
@@ -360,10 +360,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
             study, settings, title, chosen, policies, others, plot.suffix.lstrip(".").lower()
         )
     tuned_gaits.write(output, key, entry)
-    print(json.dumps(jsonable({key: entry}), indent=2))
-    if plot is not None and image is not None:
+    if plot is not None and image is not None:  # every file first, then the printing
         plot.parent.mkdir(parents=True, exist_ok=True)
         atomic_write(plot, image)
+    print(json.dumps(jsonable({key: entry}), indent=2))
+    if plot is not None and image is not None:
         print(f"frontier figure: {plot}")
     return entry
 
@@ -401,4 +402,4 @@ def _other_studies(storage: str, names: Sequence[str], heartbeat: int) -> list[o
 
 
 # The console script (pyproject.toml): main() without its returned document.
-run = script(main)
+run = console_script(main)

@@ -30,10 +30,14 @@ The environments they build on, and those earlier results are published for:
   and evaluate as published.
 """
 
+import re
+import warnings
+
 from gymnasium.envs.registration import register, registry
 
 from acl_env import tuned_gaits
 from acl_env.pretrained import list_policies, load_policy
+from acl_env.renamed import RenamedId
 
 __version__ = "0.1.0"
 __all__ = [
@@ -54,18 +58,23 @@ __all__ = [
     "NOROLL_KWARGS",
     "NOROLL_SEA_KWARGS",
     "NOROLL_V2_KWARGS",
+    "RENAMED_IDS",
     "ROLLING_HELIX_CLIMB_ID",
     "SEA_KWARGS",
+    "current_id",
     "list_policies",
     "load_policy",
 ]
 
-ACL_CLIMB_ID = "acl_env/ACLClimb-v1"
-ACL_CLIMB_BENCHMARK_ID = "acl_env/ACLClimb-v2"
-ACL_CLIMB_NOROLL_BENCHMARK_ID = "acl_env/ACLClimbNoRoll-v4"
+# One registered name per task (Gymnasium's convention: the version counts changes to that task).
+# The actuator model, the gait family and the grip name the task; the SEA tasks, the robot's,
+# have the plain names.
+ACL_CLIMB_ID = "acl_env/ACLClimbPaperGait-v1"
+ACL_CLIMB_BENCHMARK_ID = "acl_env/ACLClimbServo-v1"
+ACL_CLIMB_NOROLL_BENCHMARK_ID = "acl_env/ACLClimbNoRollServo-v1"
 ROLLING_HELIX_CLIMB_ID = "acl_env/RollingHelixClimb-v1"
-ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRoll-v3"
-ACL_CLIMB_NOROLL_V2_ID = "acl_env/ACLClimbNoRoll-v2"
+ACL_CLIMB_NOROLL_ID = "acl_env/ACLClimbNoRollBase-v3"
+ACL_CLIMB_NOROLL_V2_ID = "acl_env/ACLClimbNoRollBase-v2"
 ACL_CLIMB_SEA_ID = "acl_env/ACLClimb-v3"
 ACL_CLIMB_NOROLL_SEA_ID = "acl_env/ACLClimbNoRoll-v5"
 ACL_CLIMB_COMPLIANT_ID = "acl_env/ACLClimbCompliant-v1"
@@ -156,6 +165,24 @@ _ENVS = {
     ACL_CLIMB_NOROLL_V2_ID: NOROLL_V2_KWARGS,
 }
 
+# The ids these tasks had before the actuator model and the gait family were part of the name:
+# each old id is its successor under the new name, exactly (the same keyword arguments), kept
+# registered so that the policies and records made on it load and replay.
+RENAMED_IDS = {
+    "acl_env/ACLClimb-v1": ACL_CLIMB_ID,
+    "acl_env/ACLClimb-v2": ACL_CLIMB_BENCHMARK_ID,
+    "acl_env/ACLClimbNoRoll-v2": ACL_CLIMB_NOROLL_V2_ID,
+    "acl_env/ACLClimbNoRoll-v3": ACL_CLIMB_NOROLL_ID,
+    "acl_env/ACLClimbNoRoll-v4": ACL_CLIMB_NOROLL_BENCHMARK_ID,
+}
+
+
+def current_id(env_id: str) -> str:
+    """``env_id`` under its task's current name (an old id of :data:`RENAMED_IDS` renamed; any
+    other id as it is): the id to make when a record or policy names an old one."""
+    return RENAMED_IDS.get(env_id, env_id)
+
+
 for _env_id, _kwargs in _ENVS.items():
     if _env_id not in registry:
         register(
@@ -164,3 +191,17 @@ for _env_id, _kwargs in _ENVS.items():
             kwargs=_kwargs,
             max_episode_steps=None,
         )
+for _old_id, _new_id in RENAMED_IDS.items():
+    if _old_id not in registry:
+        register(
+            id=_old_id,
+            entry_point=RenamedId(_old_id, _new_id),
+            kwargs=_ENVS[_new_id],
+            max_episode_steps=None,
+        )
+    # Gymnasium would say that the old id is out of date against the newest version of its old
+    # name, which is another task (ACLClimb-v1 against the SEA's ACLClimb-v3): RenamedId names
+    # the same task instead.
+    warnings.filterwarnings(
+        "ignore", f".*The environment {re.escape(_old_id)} is out of date", DeprecationWarning
+    )

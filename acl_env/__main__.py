@@ -1,10 +1,13 @@
 """Watch the snake climb: ``python -m acl_env [--gait acl] [--video FILE | --snapshot FILE]``.
 
-Plays the open-loop gait (zero residual) through :func:`acl_env.evaluation.run_episode` and prints
-its metrics. Without ``--video`` or ``--snapshot`` it opens MuJoCo's interactive viewer (needs a
-display); headless machines write an mp4 or a PNG instead (``MUJOCO_GL=egl``). Without a usable
-display (see :func:`no_display_reason`) it says so, names those options and exits with status 2
-before any window is opened.
+Plays the benchmark task's open-loop gait (``acl_env/ACLClimb-v3``'s tuned ACL on the series
+elastic snake; ``--no-roll``: ``ACLClimbNoRoll-v5``'s; ``--gait rolling_helix``: the rolling
+helix, ``RollingHelixClimb-v1``) with a zero residual, through
+:func:`acl_env.evaluation.run_episode`, and prints its metrics. Without ``--video`` or
+``--snapshot`` it opens MuJoCo's interactive viewer (needs a display); headless machines write
+an mp4 or a PNG instead (``MUJOCO_GL=egl``). Without a usable display (see
+:func:`no_display_reason`) it says so, names those options and exits with status 2 before any
+window is opened.
 """
 
 from __future__ import annotations
@@ -18,19 +21,29 @@ import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env import ACL_CLIMB_NOROLL_SEA_ID, ACL_CLIMB_SEA_ID, ROLLING_HELIX_CLIMB_ID
 from acl_env.constants import SIDE_CAMERA, TRACK_CAMERA
 from acl_env.envs.lifecycle import no_display_reason
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.io import console_script
 
-ENV_IDS = {"acl": ACL_CLIMB_ID, "rolling_helix": ROLLING_HELIX_CLIMB_ID}
-NON_ROLLING = {"gait_kwargs": {"rolls_per_cycle": 0}}
+ENV_IDS = {"acl": ACL_CLIMB_SEA_ID, "rolling_helix": ROLLING_HELIX_CLIMB_ID}
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description="Play the open-loop climbing gait.")
-    parser.add_argument("--gait", choices=sorted(ENV_IDS), default="acl")
-    parser.add_argument("--no-roll", action="store_true", help="ACL without its body roll")
+    parser.add_argument(
+        "--gait",
+        choices=sorted(ENV_IDS),
+        default="acl",
+        help=f"acl: the benchmark task's gait ({ACL_CLIMB_SEA_ID}, the default); rolling_helix: "
+        f"{ROLLING_HELIX_CLIMB_ID}",
+    )
+    parser.add_argument(
+        "--no-roll",
+        action="store_true",
+        help=f"the non-rolling task's gait ({ACL_CLIMB_NOROLL_SEA_ID})",
+    )
     parser.add_argument("--cycles", type=int, default=2, help="gait cycles to play (1 to 8)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--video", help="write an mp4 (headless) instead of opening a viewer")
@@ -57,10 +70,9 @@ def main(argv: list[str] | None = None) -> None:
     if headless:
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is first imported (make)
     env = gym.make(
-        ENV_IDS[args.gait],
+        ACL_CLIMB_NOROLL_SEA_ID if args.no_roll else ENV_IDS[args.gait],
         cycles_per_episode=args.cycles,
         render_mode="rgb_array" if headless else "human",
-        **(NON_ROLLING if args.no_roll else {}),
     )
     steps = env.unwrapped.steps_per_cycle * args.cycles
     snapshot_step = steps // (4 * args.cycles) + 1  # steps played at the snapshot
@@ -81,15 +93,16 @@ def main(argv: list[str] | None = None) -> None:
     episode = run_episode(env, zero_policy(env), args.seed, show)
     bar.close()
     m = episode.metrics()
+    if args.video:  # the file first, then the printing
+        import imageio
+
+        imageio.mimwrite(args.video, frames, fps=int(env.metadata["render_fps"]) * 4)
     print(
         f"{args.gait}{' (no roll)' if args.no_roll else ''}: climb {m['climb_per_cycle_m']:.3f} "
         f"m/cycle, slip {m['slip_per_cycle_m']:.3f} m/cycle, {m['energy_per_m']:.0f} J/m, "
         f"touched arc {m['touched_arc_deg']:.0f} deg{', fell' if episode.fell else ''}"
     )
     if args.video:
-        import imageio
-
-        imageio.mimwrite(args.video, frames, fps=int(env.metadata["render_fps"]) * 4)
         print(f"wrote {args.video} ({len(frames)} frames, 4x real time)")
     env.close()
 
@@ -108,4 +121,4 @@ def _write_snapshot(env: gym.Env, path: str) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

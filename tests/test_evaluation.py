@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import yaml
 
-from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, evaluation
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_SEA_ID, ROLLING_HELIX_CLIMB_ID, evaluation
 from acl_env.constants import POLE_GEOM, shell_name
 from acl_env.evaluation import baselines, records, runner
 from acl_env.evaluation import cli as evaluate_cli
@@ -451,11 +451,11 @@ def test_the_script_refuses_bad_input_with_status_2() -> None:
 def test_python_m_acl_env_plays_the_gait(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """``python -m acl_env --snapshot``: one cycle through run_episode, its metrics printed, a
-    PNG of both cameras; a bad cycle count is refused."""
+    """``python -m acl_env --snapshot``: one cycle of the benchmark task's gait through
+    run_episode, its metrics printed, a PNG of both cameras; a bad cycle count is refused."""
     from acl_env.__main__ import main
 
-    env = gymnasium.make(ACL_CLIMB_ID, cycles_per_episode=1)
+    env = gymnasium.make(ACL_CLIMB_SEA_ID, cycles_per_episode=1)
     expected = evaluation.run_episode(env, evaluation.zero_policy(env), seed=0).metrics()
     main(["--cycles", "1", "--snapshot", str(tmp_path / "snake.png")])
     out = capsys.readouterr().out
@@ -654,7 +654,16 @@ def test_a_record_round_trips_through_its_file(tmp_path: Path) -> None:
     records.write_record(path, record)
     back = records.read_record(path)
     assert back == json.loads(json.dumps(evaluation.jsonable(record)))
-    keys = ["controllers", "env_ids", "env_kwargs", "policy", "notes", "ci", "paired_vs_policy"]
+    keys = [
+        "controllers",
+        "labels",
+        "env_ids",
+        "env_kwargs",
+        "policy",
+        "notes",
+        "ci",
+        "paired_vs_policy",
+    ]
     assert list(back) == keys
     assert records.controller_names(back) == ["policy", "open_loop_acl"]
     climbs = records.metric_values(back, "policy", "climb_per_cycle_m")
@@ -702,9 +711,13 @@ def test_a_malformed_record_is_refused_naming_its_file(
 def test_every_registered_task_has_its_baselines() -> None:
     """Every env id the package registers has an entry in the baselines table, which agrees with
     its registration (base gait, rolling) and names an entry of the shipped tuned gaits."""
-    from acl_env import tuned_gaits
+    from acl_env import RENAMED_IDS, tuned_gaits
 
-    ids = [env_id for env_id in gymnasium.registry if env_id.startswith("acl_env/")]
+    ids = [
+        env_id
+        for env_id in gymnasium.registry
+        if env_id.startswith("acl_env/") and env_id not in RENAMED_IDS
+    ]
     assert set(ids) == set(baselines.TASKS)
     shipped_keys = set(tuned_gaits.read())
     for env_id in ids:
@@ -717,11 +730,11 @@ def test_every_registered_task_has_its_baselines() -> None:
         assert task.tuned_key in shipped_keys, env_id
         assert baselines.default_tuned_key(env_id, task.non_rolling) == task.tuned_key
     expected = {
-        "acl_env/ACLClimb-v1": "acl",
-        "acl_env/ACLClimb-v2": "acl",
-        "acl_env/ACLClimbNoRoll-v4": "acl_noroll",
-        "acl_env/ACLClimbNoRoll-v3": "acl_noroll",
-        "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
+        "acl_env/ACLClimbPaperGait-v1": "acl",
+        "acl_env/ACLClimbServo-v1": "acl",
+        "acl_env/ACLClimbNoRollServo-v1": "acl_noroll",
+        "acl_env/ACLClimbNoRollBase-v3": "acl_noroll",
+        "acl_env/ACLClimbNoRollBase-v2": "acl_noroll_v2",
         "acl_env/RollingHelixClimb-v1": "acl",
         "acl_env/ACLClimb-v3": "acl_sea",
         "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
@@ -750,7 +763,7 @@ def test_the_old_module_warns_and_re_exports() -> None:
     assert old.run_controllers is runner.run_controllers and old.run is evaluate_cli.run
     assert old.DEFAULT_POLICY == baselines.DEFAULT_POLICY
     assert old.TUNED_KEYS_BY_ENV == {
-        "acl_env/ACLClimbNoRoll-v2": "acl_noroll_v2",
+        "acl_env/ACLClimbNoRollBase-v2": "acl_noroll_v2",
         "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
         "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
     }
@@ -774,8 +787,9 @@ def test_the_evaluation_package_imports_without_torch_yaml_or_sb3() -> None:
 
 
 def test_controllers_of_a_benchmark_policy_make_their_envs_without_version_warnings() -> None:
-    """The evaluation spells a benchmark task on its base id (ACLClimb-v3 as ACLClimb-v1 with
-    kwargs); making those envs does not tell the user their id is out of date."""
+    """The evaluation spells a benchmark task on its base id (ACLClimb-v3 as ACLClimbPaperGait-v1
+    with kwargs); making those envs does not tell the user their id is out of date, and the
+    record and errors name the task by its own id."""
     import warnings
 
     from acl_env import pretrained
@@ -789,6 +803,9 @@ def test_controllers_of_a_benchmark_policy_make_their_envs_without_version_warni
         for controller in controllers:
             controller.make_env().close()
             check_env_kwargs(controller.env_id, controller.env_kwargs, quiet=True).close()
-    assert not [w for w in caught if "out of date" in str(w.message)]
-    with pytest.warns(DeprecationWarning, match="out of date"):  # an id the user chose: noted
-        check_env_kwargs(ACL_CLIMB_ID, {}).close()
+    assert not [w for w in caught if issubclass(w.category, DeprecationWarning)]
+    policy = next(c for c in controllers if c.name == "policy")
+    assert policy.task()[0] == folder.env_id
+    # An old id the user chose: noted, naming the same task's current id (not the SEA's v3).
+    with pytest.warns(DeprecationWarning, match="now registered as acl_env/ACLClimbPaperGait-v1"):
+        check_env_kwargs("acl_env/ACLClimb-v1", {}).close()

@@ -293,6 +293,7 @@ def test_ablation_configs_are_valid_recipes(path: Path) -> None:
     hyperparams = config.load_hyperparams(path, env_id)
     check_hyperparams(hyperparams, str(path))
     env_kwargs = {**hyperparams["env_kwargs"], **SHORT}
+    env_id = acl_env.current_id(env_id)  # an experiment run on a task's old id: the same task
     check_env_kwargs(env_id, env_kwargs).close()
     weights = hyperparams["env_kwargs"]["reward_weights"]
     experiment = path.parent.name

@@ -39,7 +39,7 @@ compares like with like.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -57,6 +57,7 @@ from acl_env import (
     ACL_CLIMB_SEA_ID,
     BENCHMARK_BASES,
     ROLLING_HELIX_CLIMB_ID,
+    current_id,
     pretrained,
     shipped,
     tuned_gaits,
@@ -83,6 +84,19 @@ POLICY_GAIT = "open_loop_policy_gait"
 TUNED_SAME_CADENCE = "open_loop_tuned_same_cadence"
 COMPLIANT = "compliant_acl"
 COMPLIANT_SAME_CADENCE = "compliant_acl_same_cadence"
+# What each controller is, in the reader's words (:attr:`Controller.label`; build_controllers
+# says which gait the ones that depend on the task play).
+LABELS = {
+    "policy": "residual policy",
+    "open_loop_acl": "ACL, the paper's gait",
+    SAME_CADENCE: "the policy's gait at its cadence",
+    POLICY_GAIT: "the policy's gait",
+    TUNED_SAME_CADENCE: "tuned gait at the policy's cadence",
+    "open_loop_tuned": "tuned gait",
+    "open_loop_rolling_helix": "rolling helix",
+    COMPLIANT: "compliant ACL",
+    COMPLIANT_SAME_CADENCE: "compliant ACL at the policy's cadence",
+}
 # Run after the policy, at its mean phase rate.
 AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE, COMPLIANT_SAME_CADENCE)
 
@@ -99,6 +113,23 @@ class Controller:
     policy_dir: str | None = None
     phase_rate: float | None = None  # open loop at this many keyframes per step
     trust_pickles: bool = False  # an SB3 policy_dir's pickles may be loaded (they can run code)
+    label: str = ""  # what it is, in the reader's words (tables, plots, records)
+    # The registered id and the keyword arguments over its defaults that records and errors
+    # name (a policy's task: its own id, not the base id it is spelled on); empty: derived.
+    task_id: str = ""
+    task_kwargs: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def title(self) -> str:
+        """:attr:`label`, or the name where there is none."""
+        return self.label or self.name
+
+    def task(self) -> tuple[str, dict[str, Any]]:
+        """The registered id and keyword arguments this controller's env is, as records and
+        errors name it (a benchmark task under its own id, :func:`on_benchmark_id`)."""
+        if self.task_id:
+            return self.task_id, dict(self.task_kwargs)
+        return on_benchmark_id(self.env_id, self.env_kwargs)
 
     def make_env(self, **extra: Any) -> gymnasium.Env:
         """The controller's env (``extra`` over its kwargs, e.g. ``render_mode``)."""
@@ -191,6 +222,7 @@ def env_setting(env_id: str, env_kwargs: dict[str, Any], key: str, default: Any 
 def task_baselines(env_id: str) -> TaskBaselines:
     """The entry of :data:`TASKS` for ``env_id``; an env id another package registers
     (``--gym-packages``) gets one read off its registration."""
+    env_id = current_id(env_id)
     if env_id in TASKS:
         return TASKS[env_id]
     non_rolling = (env_setting(env_id, {}, "gait_kwargs") or {}).get("rolls_per_cycle", 1) == 0
@@ -211,7 +243,7 @@ def is_non_rolling(env_id: str, env_kwargs: dict[str, Any]) -> bool:
 def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
     """The tuned-gaits entry evaluation plays as ``open_loop_tuned`` for a policy on ``env_id``:
     its task's (:data:`TASKS`), unless the gait played rolls otherwise than the task's."""
-    task = TASKS.get(env_id) if env_id is not None else None
+    task = TASKS.get(current_id(env_id)) if env_id is not None else None
     if task is not None and task.non_rolling == non_rolling:
         return task.tuned_key
     return TUNED_KEYS[non_rolling]
@@ -267,6 +299,7 @@ def tuned_gait(
         on_poles = "pole_radius" in (entry.get("condition") or {})
     except (AttributeError, KeyError, TypeError, ValueError) as error:
         raise TunedGaitsError(f"{shown}: not a tuned-gaits file ({error})") from None
+    tuned_id = current_id(tuned_id)  # an entry tuned on a task's old id: the same task
     if tuned_id not in gymnasium.registry:
         return None, f"{shown}: {key!r} was tuned on {tuned_id}, not registered: re-run the tuner"
     if on_poles:
@@ -296,6 +329,7 @@ def spelled_on_base(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[
     """A benchmark id's task as its base id plus keyword arguments (``acl_env.BENCHMARK_BASES``:
     ACLClimb-v2 is ACLClimb-v1 with the shipped recipe's kwargs), so a policy on either spelling
     meets the same baselines; any other id as it is."""
+    env_id = current_id(env_id)  # a policy made on a task's old id: the same task
     base_id = BENCHMARK_BASES.get(env_id)
     if base_id is None:
         return env_id, dict(env_kwargs)
@@ -307,7 +341,8 @@ def spelled_on_base(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[
 def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
     """The inverse of :func:`spelled_on_base`: a base id whose kwargs spell a benchmark task as
     that benchmark id and the kwargs left over (domain randomisation); any other as it is."""
-    # The most specific first: ACLClimb-v3 is ACLClimb-v2's kwargs and the SEA.
+    env_id = current_id(env_id)  # a task's old id: the same task
+    # The most specific first: ACLClimb-v3 is ACLClimbServo-v1's kwargs and the SEA.
     candidates = [
         (benchmark, spelled_on_base(benchmark, {})[1])
         for benchmark, base_id in BENCHMARK_BASES.items()
@@ -339,6 +374,15 @@ def build_controllers(
         )
         if reward_weights is None:
             reward_weights = base.get("reward_weights")
+        # What the policy runs on, over its registered id's defaults: its training kwargs less
+        # the training-only ones, the overrides, and reward weights given for the evaluation.
+        own = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
+        given = (
+            {}
+            if reward_weights is base.get("reward_weights")
+            else {"reward_weights": reward_weights}
+        )
+        task_kwargs = {**own, **overrides, **given}
     base = {**base, **overrides}
     base.pop("reward_weights", None)
     if reward_weights is not None:
@@ -352,13 +396,23 @@ def build_controllers(
     if folder is not None:
         acl_kwargs = other_gait
         controllers.append(
-            Controller("policy", policy_id, base, str(folder.path), trust_pickles=trust_pickles)
+            Controller(
+                "policy",
+                policy_id,
+                base,
+                str(folder.path),
+                trust_pickles=trust_pickles,
+                label=LABELS["policy"],
+                task_id=current_id(folder.env_id),
+                task_kwargs=task_kwargs,
+            )
         )
         if base.get("base_gait", task_baselines(policy_id).base_gait) == "acl":
             # The registered gait of the policy's env (ACLClimbNoRoll-v3: the non-rolling one),
             # without any reshaping of it the policy was trained on.
             acl_id = policy_id
-    controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs))
+    acl_label = LABELS["open_loop_acl"] if acl_id == ACL_CLIMB_ID else "the task's gait"
+    controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs, label=acl_label))
     sets_cadence = (
         folder is not None and env_setting(policy_id, open_loop, "phase_rate_range") is not None
     )
@@ -366,11 +420,20 @@ def build_controllers(
         if sets_cadence:
             # The policy's own base gait (reshaped or not) at the policy's cadence: what the
             # policy adds beyond running its gait faster.
-            same = Controller(SAME_CADENCE, policy_id, open_loop, phase_rate=1.0)
+            same = Controller(
+                SAME_CADENCE, policy_id, open_loop, phase_rate=1.0, label=LABELS[SAME_CADENCE]
+            )
             controllers.append(same)
         else:
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
-    controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
+    controllers.append(
+        Controller(
+            "open_loop_rolling_helix",
+            ROLLING_HELIX_CLIMB_ID,
+            other_gait,
+            label=LABELS["open_loop_rolling_helix"],
+        )
+    )
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
     weights = base.get("reward_weights")
     if tuned_key is None and env_setting(acl_id, acl_kwargs, "actuator_model") == "sea":
@@ -379,11 +442,18 @@ def build_controllers(
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
     on_tuned = tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items())
     reshaped = any(k in open_loop for k in GAIT_KWARGS)
+    if on_tuned and sets_cadence:  # the policy's gait at its cadence is the tuned gait there
+        controllers = [
+            replace(c, label=LABELS[TUNED_SAME_CADENCE]) if c.name == SAME_CADENCE else c
+            for c in controllers
+        ]
     if folder is not None and reshaped and not sets_cadence:
         if on_tuned:
             notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
         else:  # the policy's own gait, zero action: what the residual adds to it
-            controllers.append(Controller(POLICY_GAIT, policy_id, open_loop))
+            controllers.append(
+                Controller(POLICY_GAIT, policy_id, open_loop, label=LABELS[POLICY_GAIT])
+            )
     if tuned is None:
         notes.append(f"open_loop_tuned: skipped, {note}")
     else:
@@ -395,13 +465,26 @@ def build_controllers(
         kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
         if env_setting(tuned_id, {}, "tuned_gait") is not None:
             kwargs["tuned_gait"] = None  # the entry's gait, not the one tuned_id registers
-        controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
+        controllers.append(
+            Controller("open_loop_tuned", tuned_id, kwargs, label=LABELS["open_loop_tuned"])
+        )
         notes.append(f"open_loop_tuned: {note}")
         if sets_cadence:
             if on_tuned:
-                notes.append(f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one")
+                notes.append(
+                    f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one, so {SAME_CADENCE} "
+                    "plays it"
+                )
             else:  # the best open loop at the policy's cadence
-                controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))
+                controllers.append(
+                    Controller(
+                        TUNED_SAME_CADENCE,
+                        tuned_id,
+                        kwargs,
+                        phase_rate=1.0,
+                        label=LABELS[TUNED_SAME_CADENCE],
+                    )
+                )
         controllers += _compliant(tuned_path, tuned_key, tuned_id, kwargs, sets_cadence, notes)
     return controllers, notes
 
@@ -428,7 +511,15 @@ def _compliant(
         return []
     trials = tuned_gaits.entry(key, tuned_path).get("trials", "?")
     notes.append(f"{COMPLIANT}: the grip {key!r}, best of {trials} trials")
-    out = [Controller(COMPLIANT, env_id, {**kwargs, **grip})]
+    out = [Controller(COMPLIANT, env_id, {**kwargs, **grip}, label=LABELS[COMPLIANT])]
     if sets_cadence:
-        out.append(Controller(COMPLIANT_SAME_CADENCE, env_id, {**kwargs, **grip}, phase_rate=1.0))
+        out.append(
+            Controller(
+                COMPLIANT_SAME_CADENCE,
+                env_id,
+                {**kwargs, **grip},
+                phase_rate=1.0,
+                label=LABELS[COMPLIANT_SAME_CADENCE],
+            )
+        )
     return out

@@ -37,7 +37,7 @@ from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
 from acl_env.evaluation.runner import evaluate
-from acl_env.io import atomic_output
+from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
 from acl_env.training import cli
 
@@ -207,10 +207,11 @@ def _checked_controllers(
         parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
     for controller in controllers:
         try:
-            # quiet: the evaluation spells its controllers' ids (Controller.make_env)
-            env = check_env_kwargs(controller.env_id, controller.env_kwargs, quiet=True)
+            # quiet: the evaluation spells its controllers' ids (Controller.make_env); an error
+            # names the registered task (Controller.task), as the record does
+            env = check_env_kwargs(*controller.task(), quiet=True)
         except (ValueError, TypeError, ArithmeticError) as error:
-            parser.error(f"argument --env-kwargs: {controller.name}: {error}")
+            parser.error(f"argument --env-kwargs: {controller.title}: {error}")
         try:
             controller.make_policy(env)
         except SpaceMismatchError as error:
@@ -239,36 +240,44 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     )
     summaries = {name: summarize(episodes) for name, episodes in results.items()}
     by_name = {c.name: c for c in controllers}
+    tasks = {name: by_name[name].task() for name in results}
+    labels = {name: by_name[name].title for name in results}
     document = make_record(
         summaries,
-        env_ids={name: by_name[name].env_id for name in results},
-        env_kwargs={name: by_name[name].env_kwargs for name in results},
+        env_ids={name: env_id for name, (env_id, _) in tasks.items()},
+        env_kwargs={name: kwargs for name, (_, kwargs) in tasks.items()},
         policy=None if args.no_policy else shown_path(args.policy),
         notes=notes,
         # present whenever a same-cadence open loop is
         same_cadence_phase_rate=(
             summaries[REFERENCE]["mean_phase_rate"] if SAME_CADENCE in results else None
         ),
+        labels=labels,
     )
-    print(format_table(summaries, markdown=args.markdown))
-    if "paired_vs_policy" in document:
-        print(format_paired(document["paired_vs_policy"], REFERENCE))
-    for note in notes:
-        print(note)
+    # Every file first, then the printing: a reader that stops reading (| head) loses no file.
     if args.json:
         write_record(args.json, document)
+    task = tasks[controllers[0].name][0]
     if args.plot:
         with atomic_output(args.plot) as path:
-            plot_heights(results, path)
+            plot_heights(results, path, labels, title=f"{task}, seeds {seeds[0]}-{seeds[-1]}")
     if args.video:
         shown = [controllers[0], *(by_name[name] for name in args.video_beside)]
         with atomic_output(args.video) as path:
             record_video(shown, seeds[0], path, args.video_speedup)
+    print(f"{task}: {len(seeds)} episodes, seeds {seeds[0]}-{seeds[-1]}")
+    print(format_table({labels[name]: s for name, s in summaries.items()}, args.markdown))
+    if "paired_vs_policy" in document:
+        paired = {labels[name]: d for name, d in document["paired_vs_policy"].items()}
+        print(format_paired(paired, labels[REFERENCE]))
+    for note in notes:
+        name, sep, rest = note.partition(": ")
+        print(f"{labels.get(name, name)}{sep}{rest}" if name in by_name else note)
     return document
 
 
 # The console script (pyproject.toml): main() without its returned document.
-run = cli.script(main)
+run = console_script(main)
 
 if __name__ == "__main__":
     run()

@@ -12,34 +12,79 @@ from pathlib import Path
 
 import numpy as np
 
-from acl_env.evaluation.baselines import Controller
+from acl_env.evaluation.baselines import AT_POLICY_CADENCE, Controller
 from acl_env.evaluation.protocol import Episode, mean_ci95, run_episode
 
 
-def plot_heights(results: dict[str, list[Episode]], path: str | Path) -> None:
-    """Centre-of-mass rise above its start against time: mean and 95 % CI band per controller."""
+def _rise(episodes: Sequence[Episode]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Time, and the mean and 95 % CI half-width over ``episodes`` of the centre of mass's rise
+    above its start (an episode that ended early counts until it ended)."""
+    length = max(len(e.com_height) for e in episodes)
+    rise = np.full((len(episodes), length), np.nan)
+    for row, e in zip(rise, episodes, strict=True):
+        row[: len(e.com_height)] = e.com_height - e.com_height[0]
+    stats = [mean_ci95(column) for column in rise.T]
+    mean = np.array([s["mean"] for s in stats])
+    half = np.nan_to_num(np.array([s["half_width"] for s in stats]))
+    return np.arange(length) * episodes[0].dt, mean, half
+
+
+def plot_heights(
+    results: dict[str, list[Episode]],
+    path: str | Path,
+    labels: dict[str, str] | None = None,
+    title: str = "",
+) -> None:
+    """Centre-of-mass rise above its start against time, mean and 95 % CI band per controller
+    (legend: ``labels``, else the names; ``title``: the task and seeds). The controllers at the
+    policy's cadence climb nearly alike: a second panel zooms on them over the episode's last
+    fifth, where their bands show."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-    for name, episodes in results.items():
-        length = max(len(e.com_height) for e in episodes)
-        rise = np.full((len(episodes), length), np.nan)
-        for row, e in zip(rise, episodes, strict=True):
-            row[: len(e.com_height)] = e.com_height - e.com_height[0]
-        stats = [mean_ci95(column) for column in rise.T]
-        mean = np.array([s["mean"] for s in stats])
-        half = np.nan_to_num(np.array([s["half_width"] for s in stats]))
-        t = np.arange(length) * episodes[0].dt
-        ax.plot(t, mean, label=name)
-        ax.fill_between(t, mean - half, mean + half, alpha=0.25)
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("COM height above start (m)")
-    ax.set_title(f"mean ± 95 % CI over {len(next(iter(results.values())))} episodes")
-    ax.legend()
-    ax.grid(alpha=0.3)
+    labels = labels or {}
+    group = [n for n in results if n == "policy" or n in AT_POLICY_CADENCE]
+    zoom = len(group) > 1
+    fig, axes = plt.subplots(
+        1, 2 if zoom else 1, figsize=(11 if zoom else 7, 4.6), layout="constrained", squeeze=False
+    )
+    colours = dict(zip(results, plt.get_cmap("tab10").colors, strict=False))
+    curves = {name: _rise(episodes) for name, episodes in results.items()}
+    for name, (t, mean, half) in curves.items():
+        ax = axes[0, 0]
+        ax.plot(t, mean, color=colours[name], lw=1.4, label=labels.get(name, name))
+        ax.fill_between(t, mean - half, mean + half, color=colours[name], alpha=0.3, lw=0)
+    n = len(next(iter(results.values())))
+    axes[0, 0].set_title(f"all controllers: mean and 95 % CI over {n} episodes", fontsize=10)
+    if zoom:
+        ax = axes[0, 1]
+        low, high = np.inf, -np.inf
+        for name in group:
+            t, mean, half = curves[name]
+            window = t >= 0.8 * t[-1]
+            ax.plot(t[window], mean[window], color=colours[name], lw=1.4)
+            ax.fill_between(
+                t[window],
+                (mean - half)[window],
+                (mean + half)[window],
+                color=colours[name],
+                alpha=0.3,
+                lw=0,
+            )
+            low = min(low, float(np.nanmin((mean - half)[window])))
+            high = max(high, float(np.nanmax((mean + half)[window])))
+        margin = 0.05 * (high - low or 1.0)
+        ax.set_ylim(low - margin, high + margin)
+        ax.set_title("at the policy's cadence, last fifth of the episode", fontsize=10)
+    for ax in axes[0]:
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("centre of mass above start (m)")
+        ax.grid(alpha=0.3)
+    fig.legend(loc="outside lower center", ncols=3, fontsize=10, frameon=False)
+    if title:
+        fig.suptitle(title, fontsize=12)
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
@@ -58,7 +103,7 @@ def record_video(
         frames: list[np.ndarray] = []
         run_episode(env, controller.make_policy(env), seed, _grab(frames))
         env.close()
-        panels.append([_label(frame, controller.name) for frame in frames])
+        panels.append([_label(frame, controller.title) for frame in frames])
     length = max(len(frames) for frames in panels)
     video = [
         np.concatenate([frames[min(i, len(frames) - 1)] for frames in panels], axis=1)

@@ -36,11 +36,14 @@ def make_record(
     policy: str | None,
     notes: Sequence[str],
     same_cadence_phase_rate: float | None = None,
+    labels: Mapping[str, str] | None = None,
 ) -> dict[str, Any]:
     """The record of one evaluation; ``paired_vs_policy`` is added when a policy ran beside
-    other controllers (:func:`~acl_env.evaluation.paired_differences`)."""
+    other controllers (:func:`~acl_env.evaluation.paired_differences`). ``labels``: what each
+    controller is, in the reader's words (the keys stay the controllers' names)."""
     record: dict[str, Any] = {
         "controllers": dict(summaries),
+        "labels": dict(labels or {}),
         "env_ids": dict(env_ids),
         "env_kwargs": dict(env_kwargs),
         "policy": policy,

@@ -31,7 +31,7 @@ import gymnasium
 import yaml
 
 import acl_env  # noqa: F401  (registers the acl_env/* ids)
-from acl_env import shipped, tuned_gaits
+from acl_env import current_id, shipped, tuned_gaits
 from acl_env.io import atomic_write
 from acl_env.io import parse_kv_pairs as parse_kv_pairs  # the one key:value parser, re-exported
 
@@ -110,10 +110,12 @@ def load_hyperparams(path: str | Path, env_id: str) -> dict[str, Any]:
     does not resolve."""
     with open(path) as f:
         configs = yaml.safe_load(f)
-    if env_id not in configs:
+    # A task's old id and its current one name the same entry (acl_env.RENAMED_IDS).
+    key = next((k for k in configs if current_id(k) == current_id(env_id)), None)
+    if key is None:
         known = ", ".join(k for k in configs if not k.startswith("."))
         raise KeyError(f"no entry for {env_id!r} in {path} (entries: {known})")
-    entry = dict(configs[env_id])
+    entry = dict(configs[key])
     if BASE_KEY in entry:
         return resolve_delta(entry, f"{path} entry {env_id}")
     return entry
@@ -125,6 +127,7 @@ def resolve_delta(delta: Mapping[str, Any], source: str = "recipe") -> dict[str,
     key (a value replaces the base's whole, ``None`` removes the key)."""
     overrides = dict(delta)
     base = overrides.pop(BASE_KEY)
+    base = current_id(base) if isinstance(base, str) else base
     recipe = shipped.recipe_path()
     with open(recipe) as f:
         entries = {k: v for k, v in yaml.safe_load(f).items() if not k.startswith(".")}

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from acl_env import ACL_CLIMB_ID, pretrained, shipped
+from acl_env import ACL_CLIMB_SEA_ID, pretrained, shipped
 from acl_env.envs.observations import env_observation_names
 from acl_env.io import check_writable_folder
 from acl_env.training import cli, warm_start
@@ -82,7 +82,8 @@ def make_parser() -> cli.ArgumentParser:
     parser = cli.ArgumentParser(prog="acl-train", description=DESCRIPTION)
     parser.add_argument(
         "--env",
-        help=f"registered env id (default: a --config's only entry, else {ACL_CLIMB_ID})",
+        help=f"registered env id (default: a --config's only entry, else the benchmark task, "
+        f"{ACL_CLIMB_SEA_ID})",
     )
     parser.add_argument(
         "--config",
@@ -291,7 +292,7 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         config_path = Path(args.config) if args.config else DEFAULT_CONFIG
         if not config_path.is_file():
             raise _bad("--config", f"no such file {str(config_path)!r}")
-        env_id = args.env or _only_entry(config_path) or ACL_CLIMB_ID
+        env_id = args.env or _only_entry(config_path) or ACL_CLIMB_SEA_ID
         try:
             hyperparams = load_hyperparams(config_path, env_id)
         except KeyError as error:

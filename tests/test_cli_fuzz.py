@@ -1,5 +1,5 @@
-"""Bad command lines of acl-evaluate, acl-train, acl-compare, acl-plot-curves and the exporter
-(issue 35): bad values, bad output paths, unknown options, missing files, SB3 folders without
+"""Bad command lines of acl-evaluate, acl-train, acl-compare, acl-plot-curves and the exporter:
+bad values, bad output paths, unknown options, missing files, SB3 folders without
 ``--trust-pickles``. Each is run in-process through the command's ``main(argv)`` and must exit
 with status 2 before any work: exactly one line on stderr naming the option or file, no
 traceback, and nothing written (the work folder and the inputs unchanged).

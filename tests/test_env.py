@@ -331,7 +331,8 @@ def test_unstable_physics_terminates_without_crash(
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_open_loop_gait_climbs(env_id: str) -> None:
-    """Issue 3: zero action climbs >= 0.15 m of centre-of-mass per cycle, no fall, no warning."""
+    """The open loop (a zero action) climbs >= 0.15 m of centre-of-mass per cycle, no fall,
+    no warning."""
     env = gym.make(env_id).unwrapped
     _, info = env.reset(seed=0)
     start, climbs = info["com_height"], []

@@ -1,4 +1,4 @@
-"""The fuzz table of issue 35 for the env: bad constructor arguments and lifecycle misuse.
+"""The fuzz table for the env: bad constructor arguments and lifecycle misuse.
 
 Constructor: every argument given huge integers, NaN/inf, values out of range, wrong kinds
 (bools for numbers, strings, containers, nested garbage in dicts), bad randomisation ranges, gait
@@ -228,7 +228,7 @@ def case_id(case: tuple[dict[str, Any], str]) -> str:
 
 
 def test_the_table_has_its_cases() -> None:
-    """Issue 35's target: at least 250 constructor cases over every argument."""
+    """The target: at least 250 constructor cases over every argument."""
     assert len(CONSTRUCTOR_CASES) >= 250, len(CONSTRUCTOR_CASES)
 
     covered = {name for _, name in CONSTRUCTOR_CASES}
@@ -535,7 +535,7 @@ def test_real_actions_of_any_dtype_step(action: Any) -> None:
 
 
 def test_the_lifecycle_table_has_its_cases() -> None:
-    """Issue 35's target: at least 60 lifecycle cases (plain outputs and human rendering without
+    """The target: at least 60 lifecycle cases (plain outputs and human rendering without
     a display: tests/test_env_robustness.py)."""
     cases = (
         len(ORDERS)

@@ -170,7 +170,7 @@ def test_every_camera_renders_its_own_view_at_the_smallest_size() -> None:
     env.close()
 
 
-# --- plain outputs on every outcome (issue 35's lifecycle table) ---------------------------------
+# --- plain outputs on every outcome (the lifecycle table) -----------------------------------------
 
 
 def tiny(**kwargs: Any) -> ACLClimbEnv:

@@ -17,7 +17,7 @@ from acl_env.gait.curves import _cumint, bellows_integrals, sample_curve, twist_
 from acl_env.gait.gaits import ROLL_SIGN, helix_radius
 from acl_env.gait.kinematics import backbone_fit_rms, surface_roll_angles
 
-FK_RMS_MAX = 0.015  # m, issue 2: the chain fits the backbone within 1.5 cm rms
+FK_RMS_MAX = 0.015  # m: the chain fits the backbone within 1.5 cm rms
 MIRROR_RMS_MIN = 0.05  # m, the mirrored convention must be clearly wrong
 ROLL_TOL = 0.05  # rolls per cycle
 STILL_ROLL_TOL = 0.05  # rad, mean surface roll drift of a non-rolling gait within a cycle

@@ -1,4 +1,4 @@
-"""The non-rolling task (issue 11): the measured body roll, its reward term and termination."""
+"""The non-rolling task: the measured body roll, its reward term and termination."""
 
 from __future__ import annotations
 

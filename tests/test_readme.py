@@ -94,9 +94,9 @@ def _table_rows(text: str, header: str) -> dict[str, list[str]]:
     [
         ("eval.json", "acl_env/ACLClimb-v3"),
         ("eval_compliant.json", "acl_env/ACLClimbCompliant-v1"),
-        ("eval_servo.json", "acl_env/ACLClimb-v2"),
+        ("eval_servo.json", "acl_env/ACLClimbServo-v1"),
         ("eval_noroll.json", "acl_env/ACLClimbNoRoll-v5"),
-        ("eval_noroll_servo.json", "acl_env/ACLClimbNoRoll-v4"),
+        ("eval_noroll_servo.json", "acl_env/ACLClimbNoRollServo-v1"),
     ],
 )
 def test_readme_results_table_is_its_record(record_name: str, header: str) -> None:
@@ -140,3 +140,26 @@ def test_readme_noroll_compliant_sentence_is_the_record() -> None:
     )
     assert expected in text
     assert max(policy["touched_arc_deg"]["values"]) <= 90.0  # "its arcs within 90°"
+
+
+def test_gitignore_covers_what_the_readme_commands_write() -> None:
+    """``git status`` stays clean after the README's commands: every file they write into the
+    clone (``--plot``, ``--video``, ``--snapshot`` outside docs/, training and tuning runs/,
+    rl_zoo3's logs/, the docs site's build/) is ignored."""
+    import shutil
+    import subprocess
+
+    if shutil.which("git") is None or not (ROOT / ".git").exists():
+        pytest.skip("not a git checkout")
+    text = (ROOT / "README.md").read_text()
+    written = set(re.findall(r"--(?:plot|video|snapshot)\s+([\w./-]+)", text))
+    written = {path for path in written if not path.startswith("docs/")}
+    assert {"eval.png", "climb.mp4", "snake.png"} <= written
+    written |= {"runs/x/model.zip", "logs/ppo/x", "build/site/index.html", "runs/tuned_gaits.json"}
+    proc = subprocess.run(
+        ["git", "check-ignore", "--no-index", *sorted(written)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert set(proc.stdout.split()) == written

@@ -1,4 +1,4 @@
-"""Files from elsewhere run no code unasked (issue 35): SB3 pickles load only with
+"""Files from elsewhere run no code unasked: SB3 pickles load only with
 ``--trust-pickles`` / ``trust_pickles=True``, training writes its statistics pickle-free too, a
 config names only allowed classes, and no write follows a symlink out of its folder.
 

@@ -343,7 +343,7 @@ def test_env_kwargs_split_squeeze_from_the_gait() -> None:
 
 
 def test_a_gait_that_rolls_is_disqualified_by_max_arc(tmp_path: Path) -> None:
-    # The default rolling gait touches the pole all round some module (issue 9: 360 deg).
+    # The default rolling gait touches the pole all round some module (360 deg).
     space = [f"{name}:{value}:{value}" for name, value in DEFAULT_PARAMS.items()]
     with pytest.raises(SystemExit):
         main(tiny_args(tmp_path, "--n-trials", "1", "--max-arc", "90", "--space", *space))

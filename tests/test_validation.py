@@ -150,7 +150,7 @@ def test_checks_accept_and_convert() -> None:
     assert check_choice("c", None, (None, "a")) is None
 
 
-# --- the examples ------------------------------------------------------------------------
+# --- the reported examples ------------------------------------------------------------------------
 
 
 @pytest.mark.parametrize(

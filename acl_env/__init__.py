@@ -1,33 +1,41 @@
 """acl_env: a SEA snake robot climbing a pole in MuJoCo, with the ACL gait of Chen & Roth.
 
-Importing the package registers the Gymnasium environments. The benchmark tasks, whose defaults
-are the tasks the shipped policies were trained and published on:
+Importing the package registers the Gymnasium environments, one name per task: the actuator
+model, the gait family and the grip name the task, and the version counts changes to that task.
+The benchmark tasks, whose defaults are the tasks the shipped policies were trained and published
+on, are on the series elastic snake (``actuator_model="sea"``: motors with a speed limit drive the
+joints through torsional springs, commands and sensors arrive late; :mod:`acl_env.actuators`):
 
-* ``acl_env/ACLClimb-v2``: residual control (0.08 rad per unit action) and a cadence action on the
-  tuned ACL gait ``"acl"``, rewarded climb - 2 slip - 1e-4 per joule;
-* ``acl_env/ACLClimbNoRoll-v4``: the non-rolling task (below) with a 0.08 rad residual, rewarded
-  climb - 0.05 roll - 0.001 action rate.
-
-On the series elastic snake (``actuator_model="sea"``: motors with a speed limit drive the joints
-through torsional springs, commands and sensors arrive late; :mod:`acl_env.actuators`):
-
-* ``acl_env/ACLClimb-v3``: ACLClimb-v2's task on the SEA;
-* ``acl_env/ACLClimbNoRoll-v5``: ACLClimbNoRoll-v4's task on the SEA;
+* ``acl_env/ACLClimb-v3``: residual control (0.08 rad per unit action) and a cadence action on the
+  ACL gait tuned on the SEA, ``"acl_sea"``, rewarded climb - 2 slip - 1e-4 per joule;
+* ``acl_env/ACLClimbNoRoll-v5``: the non-rolling task (below) on the SEA, with a 0.08 rad residual
+  on the gait ``"acl_noroll_sea"``, rewarded climb - 0.05 roll - 0.001 action rate;
 * ``acl_env/ACLClimbCompliant-v1``: ACLClimb-v3's task on the compliant ACL controller (the
   gait's squeeze adapted per body section at 100 Hz to the spring torques,
   :mod:`acl_env.envs.grip`), with one more action per section setting its grip target;
 * ``acl_env/ACLClimbNoRollCompliant-v1``: ACLClimbNoRoll-v5's task on the compliant controller.
 
-The environments they build on, and those earlier results are published for:
+The same tasks on ideal position servos (``actuator_model="servo"``):
 
-* ``acl_env/ACLClimb-v1``: residual control on top of the paper's default ACL gait (Eq. 1-5).
+* ``acl_env/ACLClimbServo-v1``: ACLClimb-v3's task on the ACL gait tuned on the servo, ``"acl"``;
+* ``acl_env/ACLClimbNoRollServo-v1``: ACLClimbNoRoll-v5's task on the non-rolling gait tuned on
+  the servo, ``"acl_noroll"``.
+
+The environments they build on (servo), and those earlier results are published for:
+
+* ``acl_env/ACLClimbPaperGait-v1``: residual control on top of the paper's default ACL gait
+  (Eq. 1-5).
 * ``acl_env/RollingHelixClimb-v1``: residual control on top of the rolling helix.
-* ``acl_env/ACLClimbNoRoll-v3``: the non-rolling task: the ACL gait with ``rolls_per_cycle=0``,
-  a penalty on the body's measured roll and a termination when a module has rolled too far
-  (``ACLClimbEnv``'s reference card, "Non-rolling task").
-* ``acl_env/ACLClimbNoRoll-v2``: the same task on the gait the tuner found on v1's gait tables
-  (4.1 cm per gait cycle against v3's 8.7), kept so that the policies trained on it still load
-  and evaluate as published.
+* ``acl_env/ACLClimbNoRollBase-v3``: the non-rolling task: the ACL gait with
+  ``rolls_per_cycle=0``, a penalty on the body's measured roll and a termination when a module has
+  rolled too far (``ACLClimbEnv``'s reference card, "Non-rolling task").
+* ``acl_env/ACLClimbNoRollBase-v2``: the same task on the gait the tuner found on the gait tables
+  before their thin-pole fix (4.1 cm per gait cycle against v3's 8.7), kept so that the policies
+  trained on it still load and evaluate as published.
+
+The ids these tasks had before (:data:`RENAMED_IDS`: ``ACLClimb-v1``, ``ACLClimb-v2``,
+``ACLClimbNoRoll-v2`` to ``-v4``) still make the same envs, with a deprecation note naming the
+new id.
 """
 
 import re
@@ -96,8 +104,9 @@ NOROLL_KWARGS = {
     "reward_weights": NOROLL_REWARD_WEIGHTS,
     "roll_limit": 90.0,
 }
-# v2: the same study on v1's gait tables ("acl_noroll_v2"), whose keyframes broke for large waves
-# on thin poles, so the tuner stopped at smaller ones.
+# ACLClimbNoRollBase-v2: the same study on the gait tables before their thin-pole fix
+# ("acl_noroll_v2"), whose keyframes broke for large waves on thin poles, so the tuner stopped at
+# smaller ones.
 NOROLL_V2_KWARGS = {
     "base_gait": "acl",
     **tuned_gaits.gait_shape("acl_noroll_v2"),
@@ -106,8 +115,9 @@ NOROLL_V2_KWARGS = {
 }
 
 # The benchmark tasks: the shipped policies' tasks as defaults (domain randomisation, a training
-# choice, stays a keyword argument). ACLClimb-v2 is v1 with the shipped ACL recipe's env kwargs;
-# ACLClimbNoRoll-v4 is v3 with the shipped non-rolling recipe's (acl_env/data/ppo.yml).
+# choice, stays a keyword argument). ACLClimbServo-v1 is ACLClimbPaperGait-v1 with the shipped
+# ACL recipe's env kwargs; ACLClimbNoRollServo-v1 is ACLClimbNoRollBase-v3 with the shipped
+# non-rolling recipe's (acl_env/data/ppo.yml).
 BENCHMARK_KWARGS = {
     "base_gait": "acl",
     "tuned_gait": "acl",

@@ -15,8 +15,9 @@ spring. It is built from MuJoCo's own facilities, nothing integrated by hand:
 * the observed torque is the spring torque, ``spring_stiffness`` x deflection, read as the robot
   reads it: quantised by the deflection encoder (:data:`DEFLECTION_RESOLUTION` rad per count).
 
-``"servo"`` is the ideal servo of the v1 tasks: a ``position`` actuator of stiffness ``kp`` and
-damping 0.3, no speed limit, no latency, read without delay. The comparison of the two, and of a
+``"servo"`` is the ideal servo of the servo tasks (ACLClimbServo-v1, ACLClimbNoRollServo-v1) and
+the base envs they build on: a ``position`` actuator of stiffness ``kp`` and damping 0.3, no speed
+limit, no latency, read without delay. The comparison of the two, and of a
 two-hinge model with the rotor inertia behind the spring, is in ``docs/actuators.md``.
 """
 

@@ -9,9 +9,9 @@ from importlib import resources
 from pathlib import Path
 
 RECIPE_FILE = "ppo.yml"
-# The ACL policy on the SEA (ACLClimb-v3, the default) and on the servo (ACLClimb-v2), the
-# non-rolling policy on the SEA (ACLClimbNoRoll-v5) and on the servo (ACLClimbNoRoll-v4), and the
-# ACL and non-rolling policies on the compliant grip (ACLClimbCompliant-v1,
+# The ACL policy on the SEA (ACLClimb-v3, the default) and on the servo (ACLClimbServo-v1), the
+# non-rolling policy on the SEA (ACLClimbNoRoll-v5) and on the servo (ACLClimbNoRollServo-v1),
+# and the ACL and non-rolling policies on the compliant grip (ACLClimbCompliant-v1,
 # ACLClimbNoRollCompliant-v1).
 POLICIES = (
     "acl_climb_sea_ppo",

@@ -4,11 +4,11 @@ tuned-gaits files.
 The shipped file, ``acl_env/data/tuned_gaits.json`` (package data, reached through
 :mod:`importlib.resources`), holds one entry per key: ``"acl"`` (rolling ACL, the shipped ACL
 policy's gait), ``"acl_noroll"`` (``rolls_per_cycle`` 0, the registered gait of
-``acl_env/ACLClimbNoRoll-v3``) and ``"acl_noroll_v2"`` (the registered gait of v2). The
-registrations and the training recipe name an entry by key (``tuned_gait="acl"``) instead of
-copying its numbers. The tuner (``acl-tune-gait``) writes entries of the same format to a file of
-its own (``runs/tuned_gaits.json`` unless told otherwise), never to the shipped one unless given
-its path. Per entry:
+``acl_env/ACLClimbNoRollBase-v3``) and ``"acl_noroll_v2"`` (the registered gait of
+``acl_env/ACLClimbNoRollBase-v2``). The registrations and the training recipe name an entry by
+key (``tuned_gait="acl"``) instead of copying its numbers. The tuner (``acl-tune-gait``) writes
+entries of the same format to a file of its own (``runs/tuned_gaits.json`` unless told
+otherwise), never to the shipped one unless given its path. Per entry:
 
 - ``env_id``, ``env_kwargs``: ``gymnasium.make(env_id, **env_kwargs)`` plays the tuned gait with a
   zero action (``squeeze`` in m, ``gait_kwargs`` for :class:`acl_env.gait.ACLGait`); an entry

@@ -126,13 +126,14 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     ``step``/``render`` before ``reset`` and any call after ``close`` raise (``lifecycle.py``).
 
     ## Non-rolling task
-    ``acl_env/ACLClimbNoRoll-v3`` (``acl_env.NOROLL_KWARGS``): climb without rolling, so that
+    ``acl_env/ACLClimbNoRollBase-v3`` (``acl_env.NOROLL_KWARGS``): climb without rolling, so that
     sensors can sit on skin that never touches the pole. ACL with ``rolls_per_cycle=0``, tuned
     gait ``acl_noroll``; reward ``{"climb": 1, "slip": 0.25, "roll": 0.05}`` (a turn costs more
     than the ~0.2 m a rolling gait climbs with it; a non-rolling gait inches by sliding the
     sections between its anchors); ``roll_limit`` 90 deg, the bound on the touched arc;
     ``squeeze_slope`` 0.85: the squeeze tuned on the 0.075 m pole asks for more curvature than the
-    joints give on thinner poles. v2 (``NOROLL_V2_KWARGS``): gait ``acl_noroll_v2``, no slope.
+    joints give on thinner poles. ``ACLClimbNoRollBase-v2`` (``NOROLL_V2_KWARGS``): gait
+    ``acl_noroll_v2``, no slope.
 
     ## Arguments
     | argument | default | accepted | meaning |
@@ -163,7 +164,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
     | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
     | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
-    | actuator_model | "servo" | "sea", "servo" | the joint actuators (v3 tasks: "sea") |
+    | actuator_model | "servo" | "sea", "servo" | the joint actuators (SEA tasks: "sea") |
     | spring_stiffness | None (20.0) | [1, 200] | SEA spring, N m/rad (``kp`` is the servo's) |
     | motor_speed_limit | None (2.2) | [0.1, 100] | SEA motor top speed, rad/s |
     | control_latency | None (0.01) | [0, 0.2] | s from a command to the SEA motors |
@@ -191,10 +192,15 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
       ``tuned_gait``, ``roll``, ``energy``, ``action_rate``, ``gait_modulation``, the SEA's).
     * Non-rolling task: v3 plays ``acl_noroll`` with ``squeeze_slope``; v2 fixed the gait tables
       on thin poles; v1 is no longer registered.
-    * ACLClimb-v2 and ACLClimbNoRoll-v4: v1 and v3 with the shipped policies' tasks as defaults
-      (``acl_env.BENCHMARK_KWARGS``, ``acl_env.NOROLL_BENCHMARK_KWARGS``); the same physics.
+    * ACLClimb-v2 and ACLClimbNoRoll-v4 (now ACLClimbServo-v1 and ACLClimbNoRollServo-v1): v1
+      and v3 with the shipped policies' tasks as defaults (``acl_env.BENCHMARK_KWARGS``,
+      ``acl_env.NOROLL_BENCHMARK_KWARGS``); the same physics.
     * ACLClimb-v3 and ACLClimbNoRoll-v5: those tasks on the series elastic actuators
       (``actuator_model="sea"``), each on the gait tuned there (``acl_sea``, ``acl_noroll_sea``).
+    * Renamed so that one name is one task (its actuator model, gait family and grip): ACLClimb-v1
+      is ACLClimbPaperGait-v1, ACLClimb-v2 ACLClimbServo-v1, ACLClimbNoRoll-v2/-v3
+      ACLClimbNoRollBase-v2/-v3, ACLClimbNoRoll-v4 ACLClimbNoRollServo-v1; the old ids make the
+      same env with a deprecation note naming the new one (``acl_env.RENAMED_IDS``).
     """
 
     metadata: ClassVar[dict[str, Any]] = {

@@ -66,9 +66,9 @@ REWARD_TERMS: dict[str, Callable[[StepMeasures], float]] = {
     "energy": energy_term,
     "action_rate": action_rate_term,
 }
-# roll 0: off except on the non-rolling task (acl_env/ACLClimbNoRoll-v3), where rolling is what
-# the task forbids; energy and action_rate 0: off unless a recipe asks for them. With all three
-# at weight 0 the reward equals climb and slip's to the bit.
+# roll 0: off except on the non-rolling tasks (acl_env/ACLClimbNoRollBase-v3 and those built on
+# it), where rolling is what the task forbids; energy and action_rate 0: off unless a recipe asks
+# for them. With all three at weight 0 the reward equals climb and slip's to the bit.
 DEFAULT_REWARD_WEIGHTS: dict[str, float] = {
     "climb": 1.0,
     "slip": 1.0,

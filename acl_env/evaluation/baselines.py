@@ -23,10 +23,10 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the task (its entry of the
   shipped tuned gaits, :mod:`acl_env.tuned_gaits`, named in :data:`TASKS`), the non-rolling one
-  for a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRoll-v3``: its roll term
-  and roll limit apply; a policy on the superseded v2 is judged against v2's own,
-  ``acl_noroll_v2``); a gait tuned on given poles keeps the ``squeeze_slope`` of the env it was
-  tuned on; skipped with a note when the file has no such entry;
+  for a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRollBase-v3``: its roll
+  term and roll limit apply; a policy on the superseded ``ACLClimbNoRollBase-v2`` is judged against
+  that env's own, ``acl_noroll_v2``); a gait tuned on given poles keeps the ``squeeze_slope`` of
+  the env it was tuned on; skipped with a note when the file has no such entry;
 * ``compliant_acl`` (and ``compliant_acl_same_cadence`` when the policy sets the cadence): on
   the series elastic actuators, ``open_loop_tuned`` with the compliant grip tuned on it (entry
   ``<tuned key>_grip``, :mod:`acl_env.envs.grip`); the open loops above play without the grip.
@@ -182,7 +182,7 @@ class TaskBaselines:
 
 TASKS: dict[str, TaskBaselines] = {
     ACL_CLIMB_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl"),
-    # A helix policy meets open-loop ACL on ACLClimb-v1 and the rolling tuned gait.
+    # A helix policy meets open-loop ACL on ACLClimbPaperGait-v1 and the rolling tuned gait.
     ROLLING_HELIX_CLIMB_ID: TaskBaselines(
         base_gait="rolling_helix", non_rolling=False, tuned_key="acl"
     ),
@@ -327,8 +327,8 @@ def evaluation_env_kwargs(folder: PolicySource) -> dict[str, Any]:
 
 def spelled_on_base(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
     """A benchmark id's task as its base id plus keyword arguments (``acl_env.BENCHMARK_BASES``:
-    ACLClimb-v2 is ACLClimb-v1 with the shipped recipe's kwargs), so a policy on either spelling
-    meets the same baselines; any other id as it is."""
+    ACLClimbServo-v1 is ACLClimbPaperGait-v1 with the shipped recipe's kwargs), so a policy on
+    either spelling meets the same baselines; any other id as it is."""
     env_id = current_id(env_id)  # a policy made on a task's old id: the same task
     base_id = BENCHMARK_BASES.get(env_id)
     if base_id is None:
@@ -408,7 +408,7 @@ def build_controllers(
             )
         )
         if base.get("base_gait", task_baselines(policy_id).base_gait) == "acl":
-            # The registered gait of the policy's env (ACLClimbNoRoll-v3: the non-rolling one),
+            # The registered gait of the policy's env (ACLClimbNoRollBase-v3: the non-rolling one),
             # without any reshaping of it the policy was trained on.
             acl_id = policy_id
     acl_label = LABELS["open_loop_acl"] if acl_id == ACL_CLIMB_ID else "the task's gait"

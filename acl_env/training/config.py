@@ -8,8 +8,8 @@ accepts literals, ``dict(...)`` calls and ``torch.nn`` / ``torch.optim`` class n
 An experiment's recipe may be a delta over an entry of the shipped recipe
 (``acl_env/data/ppo.yml``), as MuJoCo Playground's parameter files are::
 
-    acl_env/ACLClimbNoRoll-v2:
-      base: acl_env/ACLClimbNoRoll-v3   # an entry of the shipped recipe
+    acl_env/ACLClimbNoRollBase-v2:
+      base: acl_env/ACLClimbNoRollBase-v3   # an entry of the shipped recipe
       n_timesteps: 1000000             # top-level keys replace the base's
       env_kwargs:                       # merged key by key into the base's env_kwargs:
         squeeze: 0.0157                 # a value replaces the base's value whole,

@@ -11,8 +11,8 @@ against the servo, scaling.
 2. **Steps per second per core** of ``env.step`` at the default physics step and at the old
    2 ms step (``timestep=0.002``), in alternating blocks of the same run (median of rounds).
 3. **SEA against servo:** steps per second of ``env.step`` on ACLClimb-v3 (series elastic
-   actuators) and ACLClimb-v2 (the same task on the ideal servo), alternating blocks of thread
-   CPU time, median of the per-round ratio.
+   actuators) and ACLClimbServo-v1 (the same task on the ideal servo), alternating blocks of
+   thread CPU time, median of the per-round ratio.
 4. **Process scaling:** total steps/s of Gymnasium's async vector env with 1 and 2 worker
    processes, alternating, median of rounds; meaningful only on an otherwise idle machine.
 
@@ -158,7 +158,8 @@ def plot(figures: dict[str, Any], path: Any) -> None:
     plt = use_agg()
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.4))
     sea, servo = 1e3 / figures["steps_per_s_sea"], 1e3 / figures["steps_per_s_servo"]
-    axes[0].bar(["ACLClimb-v2 (servo)", "ACLClimb-v3 (SEA)"], [servo, sea], color=["C0", "C1"])
+    labels = ["ACLClimbServo-v1 (servo)", "ACLClimb-v3 (SEA)"]
+    axes[0].bar(labels, [servo, sea], color=["C0", "C1"])
     axes[0].set_ylabel("ms per env step (CPU)")
     axes[0].set_title(f"SEA / servo: {figures['sea_step_over_servo']:.2f}x")
     axes[1].bar(

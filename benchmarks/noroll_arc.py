@@ -6,14 +6,14 @@
 Controllers, episode ``i`` of each resetting with seed ``seed + i``
 (:func:`acl_env.training.evaluate.run_controllers`, :func:`acl_env.evaluation.run_episode`):
 
-* ``open_loop_noroll``: ``acl_env/ACLClimbNoRoll-v3`` with a zero action (the policy's env and
-  its non-training kwargs when ``--policy`` is given, its gait included, so both run under the
+* ``open_loop_noroll``: ``acl_env/ACLClimbNoRollBase-v3`` with a zero action (the policy's env
+  and its non-training kwargs when ``--policy`` is given, its gait included, so both run under the
   same conditions);
 * ``open_loop_tuned_noroll``: the tuner's non-rolling gait (``acl_noroll`` of the shipped tuned
-  gaits, :mod:`acl_env.tuned_gaits`; ``acl_noroll_v2`` for a policy on v2) on the same env, when
-  it differs from the gait ``open_loop_noroll`` plays;
+  gaits, :mod:`acl_env.tuned_gaits`; ``acl_noroll_v2`` for a policy on ``ACLClimbNoRollBase-v2``)
+  on the same env, when it differs from the gait ``open_loop_noroll`` plays;
 * ``policy``: the policy folder (deterministic, VecNormalize frozen), with ``--policy``;
-* ``open_loop_rolling_acl``: the rolling ACL (``acl_env/ACLClimb-v1``), for reference.
+* ``open_loop_rolling_acl``: the rolling ACL (``acl_env/ACLClimbPaperGait-v1``), for reference.
 
 Prints, per controller, the largest touched arc of any module (mean and max over episodes) and
 the modules above the task's 90-degree target; draws each module's touched arc (bars: mean over

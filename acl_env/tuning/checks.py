@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import warnings
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -123,9 +122,7 @@ def check_recipe(hyperparams: Mapping[str, Any], env_id: str, source: str) -> No
 
     try:  # the tuner runs no training: a recipe for it alone may leave out n_timesteps
         check_hyperparams({"n_timesteps": 1, **hyperparams}, source)
-        with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
-            warnings.simplefilter("ignore", DeprecationWarning)
-            env = check_env_kwargs(env_id, dict(hyperparams.get("env_kwargs") or {}))
+        env = check_env_kwargs(env_id, dict(hyperparams.get("env_kwargs") or {}))
     except (ConfigError, TypeError, ValueError, OverflowError) as error:
         message = str(error)
         message = message if message.startswith(source) else f"{source}: {message}"

@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -281,9 +280,7 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
 def _check_env(env_id: str, option: str, **kwargs: Any) -> None:
     """Build the env with ``kwargs`` once, so that its own checks refuse them naming ``option``."""
     try:
-        with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
-            warnings.simplefilter("ignore", DeprecationWarning)
-            gymnasium.make(env_id, **kwargs).close()
+        gymnasium.make(env_id, **kwargs).close()
     except (ValueError, TypeError, OverflowError) as exc:
         message = str(exc).split(" was raised from the environment creator")[0]
         raise UsageError(option, message) from None

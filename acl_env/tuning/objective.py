@@ -16,7 +16,6 @@ import itertools
 import math
 import os
 import socket
-import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -112,9 +111,7 @@ class TuneSettings:
         kwargs = {**self.protocol_kwargs(), **self.env_kwargs(params)}
         if not self.grip:  # the trial's gait replaces a tuned gait the id plays (ACLClimb-v3)
             kwargs["tuned_gait"] = None
-        with warnings.catch_warnings():  # ACLClimb-v1 "is out of date": the tuner means it
-            warnings.simplefilter("ignore", DeprecationWarning)
-            return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]
+        return [gymnasium.make(self.env_id, **kwargs, **c) for c in self.conditions()]
 
 
 def rollout_all(

@@ -1,0 +1,139 @@
+"""``acl-benchmark``: policies and every analytic controller of their task on the task's
+condition grid (:mod:`acl_env.benchmark.grid`), on the same seeds, with a record that resumes.
+
+Every argument is checked before the first episode (a bad one: exit 2, one line naming it). The
+record is rewritten after each cell: run the same command again to go on after an interruption.
+The heat maps (``--plots``) and the summary over training seeds are made from the record.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import json
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from acl_env import current_id, shipped
+from acl_env.benchmark.figures import TITLES, plot_heat_maps
+from acl_env.benchmark.grid import grid_for
+from acl_env.benchmark.run import run_benchmark
+from acl_env.benchmark.summary import summarize_benchmark
+from acl_env.evaluation.baselines import LABELS, read_policy
+from acl_env.evaluation.cli import policy_folder
+from acl_env.evaluation.runner import make_pool
+from acl_env.io import atomic_output, console_script, read_json, write_json
+from acl_env.training import cli
+
+DEFAULT_EPISODES = 10
+
+
+def make_parser() -> cli.ArgumentParser:
+    """The command line of ``acl-benchmark``."""
+    parser = cli.ArgumentParser(
+        prog="acl-benchmark",
+        description="Play policies and their task's analytic controllers on the task's "
+        "condition grid, on the same seeds.",
+    )
+    parser.add_argument(
+        "--policy",
+        nargs="+",
+        type=policy_folder,
+        default=[shipped.policy_dir()],
+        help="shipped policies or exported policy folders of one task, e.g. the training seeds "
+        f"of one recipe (default {shipped.DEFAULT_POLICY})",
+    )
+    parser.add_argument(
+        "--episodes",
+        type=cli.int_at_least(1, cli.MAX_COUNT),
+        default=DEFAULT_EPISODES,
+        help=f"episodes per cell and controller (default {DEFAULT_EPISODES})",
+    )
+    parser.add_argument(
+        "--seed",
+        type=cli.int_at_least(0, cli.MAX_SEED),
+        default=0,
+        help="episode i resets with seed + i in every cell",
+    )
+    parser.add_argument(
+        "--json",
+        type=cli.output_file(".json"),
+        required=True,
+        help="the record (.json); an unfinished one made with the same settings is resumed",
+    )
+    parser.add_argument(
+        "--plots",
+        type=cli.output_file(".png", ".pdf", ".svg"),
+        help="heat maps: FILE gets one figure per score, named FILE's stem + _<score>",
+    )
+    parser.add_argument(
+        "--workers",
+        type=cli.int_at_least(1, cli.MAX_PROCESSES),
+        default=2,
+        help="processes running episodes (default 2)",
+    )
+    parser.add_argument("--no-progress-bar", action="store_true")
+    return parser
+
+
+def plot_paths(plots: Path) -> dict[str, Path]:
+    """The heat maps' files: ``plots``'s stem with each score's name appended."""
+    return {score: plots.with_name(f"{plots.stem}_{score}{plots.suffix}") for score in TITLES}
+
+
+def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
+    """Run (or resume) the benchmark, write the record and heat maps, print the summary."""
+    parser = make_parser()
+    args = parser.parse_args(argv)
+    try:
+        folders = [read_policy(path) for path in args.policy]
+    except ValueError as error:
+        parser.error(f"argument --policy: {error}")
+    tasks = {current_id(folder.env_id) for folder in folders}
+    if len(tasks) > 1:
+        parser.error(f"argument --policy: the policies are of several tasks: {sorted(tasks)}")
+    (task,) = tasks
+    try:
+        grid = grid_for(task)
+    except KeyError as error:
+        parser.error(f"argument --policy: {error.args[0]}")
+    if args.json.is_file():
+        try:
+            read_json(args.json)
+        except ValueError as error:
+            parser.error(f"argument --json: {error}")
+    seeds = [args.seed + i for i in range(args.episodes)]
+    cells = grid.cells()
+    pool = make_pool(args.workers)
+    try:
+        with tqdm(total=len(cells), desc="cells", unit="cell", disable=args.no_progress_bar) as bar:
+            record = run_benchmark(
+                task, args.policy, grid, seeds, args.json, pool, on_cell=lambda _: bar.update()
+            )
+    except ValueError as error:
+        parser.error(f"argument --json: {error}")
+    finally:
+        if pool is not None:
+            pool.shutdown()
+    summary = summarize_benchmark(record)
+    record["summary"] = {"all": summary, "held_out": summarize_benchmark(record, True)}
+    write_json(args.json, record)
+    if args.plots:
+        labels = {**LABELS, **{f"policy:{Path(p).name}": Path(p).name for p in args.policy}}
+        for score, path in plot_paths(args.plots).items():
+            with atomic_output(path) as tmp:
+                plot_heat_maps(record, score, tmp, labels)
+    print(f"{task}: {len(cells)} cells, {len(seeds)} episodes each, {len(args.policy)} policies")
+    print(json.dumps(record["summary"]["all"]["scores"], indent=1))
+    return record
+
+
+run = console_script(main)
+
+if __name__ == "__main__":
+    run()

@@ -1,0 +1,107 @@
+"""Heat maps of a benchmark record: for one score, a row of panels per controller (the policies
+as their mean over seeds), one panel per pair of axes, the other axes nominal. A cell where the
+controller falls in most episodes is marked with a cross."""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from acl_env.benchmark.grid import Cell
+from acl_env.benchmark.summary import controllers_of
+
+TITLES = {
+    "success_rate": ("success rate (no fall, climbs)", 100.0, "{:.0f}", "%"),
+    "climb_per_gait_cycle_m": ("climb per gait cycle", 100.0, "{:.1f}", "cm"),
+    "slip_per_m": ("slip per metre climbed", 1.0, "{:.2f}", ""),
+    "energy_per_m": ("energy per metre", 1.0, "{:.0f}", "J/m"),
+}
+
+
+def _value(result: dict[str, Any], score: str) -> float:
+    value = result[score] if score == "success_rate" else result[score]["mean"]
+    return np.nan if value is None else float(value)
+
+
+def plot_heat_maps(
+    record: dict[str, Any], score: str, path: str | Path, labels: dict[str, str] | None = None
+) -> None:
+    """The heat maps of ``score`` (a key of :data:`TITLES`) to ``path``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    title, scale, fmt, unit = TITLES[score]
+    axes_info = record["settings"]["axes"]
+    pairs = list(itertools.combinations(axes_info, 2))
+    policies, analytic = controllers_of(record)
+    rows = (["policies"] if policies else []) + analytic
+    labels = labels or {}
+    fig, grid = plt.subplots(
+        len(rows),
+        len(pairs),
+        figsize=(2.6 * len(pairs), 2.3 * len(rows) + 0.8),
+        squeeze=False,
+        layout="constrained",
+    )
+    cmap = "viridis" if score in ("success_rate", "climb_per_gait_cycle_m") else "viridis_r"
+    values_all = []
+    for row in rows:
+        names = policies if row == "policies" else [row]
+        for cell in record["cells"].values():
+            values_all += [_value(cell["controllers"][n], score) * scale for n in names]
+    finite = [v for v in values_all if np.isfinite(v)]
+    vmin, vmax = (min(finite), max(finite)) if finite else (0.0, 1.0)
+    image = None
+    for r, row in enumerate(rows):
+        names = policies if row == "policies" else [row]
+        for c, (x_name, y_name) in enumerate(pairs):
+            ax = grid[r, c]
+            xs, ys = axes_info[x_name]["values"], axes_info[y_name]["values"]
+            nominal = {k: a["nominal"] for k, a in axes_info.items()}
+            data = np.full((len(ys), len(xs)), np.nan)
+            for (i, y), (j, x) in itertools.product(enumerate(ys), enumerate(xs)):
+                changed = {k: v for k, v in ((x_name, x), (y_name, y)) if v != nominal[k]}
+                cell = record["cells"].get(Cell(changed, held_out=False).key)
+                if cell is None:
+                    continue
+                results = [cell["controllers"][n] for n in names]
+                data[i, j] = np.nanmean([_value(res, score) for res in results]) * scale
+                ax.text(
+                    j,
+                    i,
+                    "" if np.isnan(data[i, j]) else fmt.format(data[i, j]),
+                    ha="center",
+                    va="center",
+                    fontsize=8,
+                    color="white",
+                )
+                falls = np.mean([res["falls"] / res["episodes"] for res in results])
+                if falls > 0.5:
+                    ax.plot(j, i, marker="x", color="red", markersize=18, mew=2)
+            image = ax.imshow(data, origin="lower", cmap=cmap, vmin=vmin, vmax=vmax, aspect="auto")
+            ax.set_xticks(range(len(xs)), [f"{x:g}" for x in xs], fontsize=8)
+            ax.set_yticks(range(len(ys)), [f"{y:g}" for y in ys], fontsize=8)
+            ax.set_xlabel(x_name, fontsize=9)
+            ax.set_ylabel(y_name, fontsize=9)
+        label = f"policies (mean of {len(policies)})" if row == "policies" else labels.get(row, row)
+        grid[r, 0].annotate(
+            label,
+            (0, 0.5),
+            xytext=(-55, 0),
+            xycoords="axes fraction",
+            textcoords="offset points",
+            rotation=90,
+            ha="right",
+            va="center",
+            fontsize=10,
+        )
+    if image is not None:
+        fig.colorbar(image, ax=grid, shrink=0.6, label=f"{title} ({unit})" if unit else title)
+    fig.suptitle(f"{record['settings']['task']}: {title}; x: falls in most episodes", fontsize=12)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)

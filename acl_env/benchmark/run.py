@@ -1,0 +1,164 @@
+"""Play policies and every analytic controller of their task on every cell of the task's
+condition grid, on the same seeds, and record per cell and controller what each achieved.
+
+Per cell the controllers are those :func:`acl_env.evaluation.baselines.build_controllers` judges
+the first policy against, with the cell's conditions as overrides, and each policy given (the
+training seeds of one recipe). The open loops at the policy's cadence run at the policies' mean
+cadence in that cell. The record is rewritten after every cell, so an interrupted run resumes
+where it stopped (:func:`run_benchmark` with the same settings and record path).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from acl_env.benchmark.grid import Cell, Grid
+from acl_env.evaluation.baselines import (
+    AT_POLICY_CADENCE,
+    DEFAULT_TUNED_GAITS,
+    Controller,
+    build_controllers,
+    read_policy,
+    shown_path,
+)
+from acl_env.evaluation.protocol import Episode
+from acl_env.evaluation.runner import run_controllers
+from acl_env.io import jsonable, read_json, write_json
+
+FORMAT = "acl_env.benchmark/1"
+# Per episode and controller; success is neither a fall nor a net descent.
+METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "touched_arc_deg")
+POLICY_PREFIX = "policy:"
+
+
+def success(episode: Episode) -> bool:
+    """The episode held the pole and climbed: no fall, and a positive climb."""
+    return not episode.fell and episode.climb > 0.0
+
+
+def cell_result(episodes: Sequence[Episode]) -> dict[str, Any]:
+    """What one controller achieved in one cell: success rate and falls, and per metric the
+    mean over the episodes where it is defined and the per-episode values (seed order)."""
+    per_episode = [e.metrics() for e in episodes]
+    result: dict[str, Any] = {
+        "episodes": len(episodes),
+        "success_rate": float(np.mean([success(e) for e in episodes])),
+        "falls": int(sum(e.fell for e in episodes)),
+        "mean_phase_rate": float(
+            sum(e.keyframes for e in episodes) / max(1, sum(e.steps for e in episodes))
+        ),
+    }
+    for metric in METRICS:
+        values = [m[metric] for m in per_episode]
+        finite = [v for v in values if math.isfinite(v)]
+        result[metric] = {
+            "mean": float(np.mean(finite)) if finite else math.nan,
+            "values": values,
+        }
+    return result
+
+
+def policy_name(path: str | Path) -> str:
+    """A policy's controller name in the record: ``policy:<folder name>``."""
+    return f"{POLICY_PREFIX}{Path(path).name}"
+
+
+def cell_controllers(
+    policies: Sequence[Path], cell_kwargs: dict[str, Any], tuned_path: Path
+) -> tuple[list[Controller], list[Controller]]:
+    """The controllers of one cell: those that run first (each policy and the analytic
+    controllers judged against the first) and those at the policies' cadence (run after,
+    once their cadence is known)."""
+    first: list[Controller] = []
+    analytic: list[Controller] = []
+    for index, path in enumerate(policies):
+        folder = read_policy(path)
+        controllers, _ = build_controllers(folder, cell_kwargs, None, tuned_path)
+        policy = next(c for c in controllers if c.name == "policy")
+        first.append(replace(policy, name=policy_name(path), label=Path(path).name))
+        if index == 0:
+            analytic = [c for c in controllers if c.name != "policy"]
+    first += [c for c in analytic if c.name not in AT_POLICY_CADENCE]
+    later = [c for c in analytic if c.name in AT_POLICY_CADENCE]
+    return first, later
+
+
+def run_cell(
+    policies: Sequence[Path],
+    cell_kwargs: dict[str, Any],
+    seeds: Sequence[int],
+    pool: Executor | None,
+    tuned_path: Path = DEFAULT_TUNED_GAITS,
+) -> dict[str, dict[str, Any]]:
+    """Every controller of one cell on ``seeds``: ``{controller: cell_result}``."""
+    first, later = cell_controllers(policies, cell_kwargs, tuned_path)
+    results = run_controllers(first, seeds, pool, progress=False)
+    if later:
+        played = [e for name, eps in results.items() if name.startswith(POLICY_PREFIX) for e in eps]
+        rate = sum(e.keyframes for e in played) / sum(e.steps for e in played)
+        later = [replace(c, phase_rate=float(rate)) for c in later]
+        results |= run_controllers(later, seeds, pool, progress=False)
+    return {name: cell_result(episodes) for name, episodes in results.items()}
+
+
+def settings(
+    task: str, policies: Sequence[Path], grid: Grid, seeds: Sequence[int], tuned_path: Path
+) -> dict[str, Any]:
+    """What a record was made with, as its JSON reads back: a resumed run must match it."""
+    return jsonable(
+        {
+            "task": task,
+            "policies": [shown_path(p) for p in policies],
+            "seeds": list(seeds),
+            "tuned_gaits": shown_path(tuned_path),
+            "axes": {
+                a.name: {"values": list(a.values), "nominal": a.nominal, "training": a.training}
+                for a in grid.axes
+            },
+            "fixed": dict(grid.fixed),
+        }
+    )
+
+
+def run_benchmark(
+    task: str,
+    policies: Sequence[Path],
+    grid: Grid,
+    seeds: Sequence[int],
+    record_path: Path,
+    pool: Executor | None = None,
+    tuned_path: Path = DEFAULT_TUNED_GAITS,
+    on_cell: Callable[[Cell], None] | None = None,
+) -> dict[str, Any]:
+    """Play every cell of ``grid`` not yet in the record at ``record_path`` (one made with the
+    same :func:`settings`; ``ValueError`` if it was made with others), writing the record after
+    each cell; return it. ``on_cell`` is called after each cell (a progress bar)."""
+    wanted = settings(task, policies, grid, seeds, tuned_path)
+    record: dict[str, Any] = {"format": FORMAT, "settings": wanted, "cells": {}}
+    if record_path.is_file():
+        previous = read_json(record_path)
+        if previous.get("settings") != wanted:
+            raise ValueError(
+                f"{record_path} was made with other settings (task, policies, seeds, grid or "
+                "tuned gaits): give another --json path, or remove it to start again"
+            )
+        record = previous
+    for cell in grid.cells():
+        if cell.key not in record["cells"]:
+            controllers = run_cell(policies, grid.env_kwargs(cell), seeds, pool, tuned_path)
+            record["cells"][cell.key] = {
+                "kwargs": cell.kwargs,
+                "held_out": cell.held_out,
+                "controllers": controllers,
+            }
+            write_json(record_path, record)
+        if on_cell is not None:
+            on_cell(cell)
+    return record

@@ -1,0 +1,87 @@
+"""Statistics over training seeds, as the field reports them (Agarwal et al., NeurIPS 2021, *Deep
+RL at the edge of the statistical precipice*): the interquartile mean, bootstrap 95 % intervals,
+the probability of improvement, and performance profiles. SciPy computes them.
+
+``rliable``, the paper's library, would pull in arch, pandas and seaborn; SciPy's bootstrap is
+what it builds on. Its stratified bootstrap resamples runs within each task; here the strata are
+the grid's cells, and a training seed is one policy played in every cell, so the seeds are
+resampled jointly across cells (rows of a seeds x cells matrix).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+CONFIDENCE = 0.95
+RESAMPLES = 5000
+
+
+def iqm(values: Sequence[float] | np.ndarray, axis: int = -1) -> Any:
+    """Interquartile mean: the mean of the middle half (25 % trimmed from each end)."""
+    return stats.trim_mean(np.asarray(values, dtype=float), 0.25, axis=axis)
+
+
+def bootstrap_interval(
+    values: Sequence[float] | np.ndarray,
+    statistic: Callable[[np.ndarray], float] = iqm,
+    seed: int = 0,
+) -> tuple[float, float]:
+    """Percentile bootstrap 95 % interval of ``statistic`` of ``values``, resampling its rows
+    (the training seeds; a seeds x cells matrix keeps each seed's row whole). SciPy resamples
+    the row indices; fewer than two rows, or all alike: the statistic itself, twice."""
+    data = np.asarray(values, dtype=float)
+    point = float(statistic(data))
+    if len(data) < 2 or np.all(data == data[0]):
+        return point, point
+    result = stats.bootstrap(
+        (np.arange(len(data)),),
+        lambda rows: statistic(data[rows.astype(int)]),
+        vectorized=False,
+        confidence_level=CONFIDENCE,
+        n_resamples=RESAMPLES,
+        method="percentile",
+        rng=np.random.default_rng(seed),
+    )
+    return float(result.confidence_interval.low), float(result.confidence_interval.high)
+
+
+def probability_of_improvement(
+    scores: np.ndarray, reference: np.ndarray, higher_is_better: bool = True
+) -> np.ndarray:
+    """P(X > Y) + P(X = Y) / 2 per cell, X a row of ``scores`` (seeds x cells) and Y a row of
+    ``reference`` (runs x cells, or one value per cell): the Mann-Whitney U statistic over the
+    number of pairs, cell by cell."""
+    x = np.asarray(scores, dtype=float)
+    y = np.asarray(reference, dtype=float)
+    if y.ndim == 1:
+        y = y[None, :]
+    if not higher_is_better:
+        x, y = -x, -y
+    greater = (x[:, None, :] > y[None, :, :]).mean(axis=(0, 1))
+    equal = (x[:, None, :] == y[None, :, :]).mean(axis=(0, 1))
+    return greater + 0.5 * equal
+
+
+def mean_probability_of_improvement(
+    scores: np.ndarray, reference: np.ndarray, higher_is_better: bool = True, seed: int = 0
+) -> dict[str, Any]:
+    """The probability of improvement averaged over cells, and its bootstrap 95 % interval
+    over the training seeds (the rows of ``scores``)."""
+
+    def statistic(rows: np.ndarray) -> float:
+        return float(probability_of_improvement(rows, reference, higher_is_better).mean())
+
+    low, high = bootstrap_interval(scores, statistic, seed)
+    return {"mean": statistic(np.asarray(scores, dtype=float)), "ci95": [low, high]}
+
+
+def performance_profile(scores: np.ndarray, thresholds: np.ndarray) -> np.ndarray:
+    """The fraction of runs x cells whose score exceeds each threshold (a run's score
+    distribution, the curve of the performance profile)."""
+    flat = np.asarray(scores, dtype=float).ravel()
+    flat = flat[np.isfinite(flat)]
+    return np.array([(flat > t).mean() if len(flat) else np.nan for t in thresholds])

@@ -1,0 +1,72 @@
+"""What a benchmark record says over its cells and training seeds: each controller's grid-wide
+figures, the policies' interquartile mean and bootstrap interval over seeds, and their
+probability of improvement over the best analytic controller of each cell."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from acl_env.benchmark.run import POLICY_PREFIX
+from acl_env.benchmark.stats import bootstrap_interval, iqm, mean_probability_of_improvement
+
+# Each score and whether more is better.
+SCORES = {
+    "success_rate": True,
+    "climb_per_gait_cycle_m": True,
+    "slip_per_m": False,
+    "energy_per_m": False,
+}
+
+
+def cell_matrix(record: dict[str, Any], controller: str, score: str, cells: list[str]) -> list:
+    """``controller``'s ``score`` in each of ``cells`` (NaN where it is undefined)."""
+    values = []
+    for key in cells:
+        result = record["cells"][key]["controllers"][controller]
+        value = result[score] if score == "success_rate" else result[score]["mean"]
+        values.append(np.nan if value is None else float(value))
+    return values
+
+
+def controllers_of(record: dict[str, Any]) -> tuple[list[str], list[str]]:
+    """The record's policies (``policy:<name>``) and analytic controllers, in record order."""
+    first = next(iter(record["cells"].values()))["controllers"]
+    policies = [n for n in first if n.startswith(POLICY_PREFIX)]
+    return policies, [n for n in first if not n.startswith(POLICY_PREFIX)]
+
+
+def summarize_benchmark(record: dict[str, Any], held_out_only: bool = False) -> dict[str, Any]:
+    """Per score: each analytic controller's mean over the cells; the policies' grid means,
+    their IQM over seeds with its bootstrap 95 % interval; the best analytic controller per
+    cell, and the probability that a policy seed beats it, averaged over cells, with its
+    interval. ``held_out_only``: only the cells outside the training ranges."""
+    cells = [k for k, c in record["cells"].items() if c["held_out"] or not held_out_only]
+    policies, analytic = controllers_of(record)
+    out: dict[str, Any] = {"cells": len(cells), "policies": policies, "scores": {}}
+    for score, higher in SCORES.items():
+        table = {name: np.array(cell_matrix(record, name, score, cells)) for name in analytic}
+        entry: dict[str, Any] = {
+            "analytic": {name: float(np.nanmean(v)) for name, v in table.items()},
+        }
+        if policies:
+            matrix = np.array([cell_matrix(record, p, score, cells) for p in policies])
+            stacked = np.array(list(table.values()))
+            with np.errstate(all="ignore"):
+                best = np.nanmax(stacked, 0) if higher else np.nanmin(stacked, 0)
+            usable = np.isfinite(best) & np.all(np.isfinite(matrix), axis=0)
+            grid_means = np.nanmean(matrix, axis=1)
+            low, high = bootstrap_interval(grid_means)
+            entry["policies"] = {
+                "per_seed": dict(zip(policies, grid_means.tolist(), strict=True)),
+                "iqm": float(iqm(grid_means)),
+                "ci95": [low, high],
+            }
+            entry["best_analytic_mean"] = float(np.nanmean(best))
+            entry["probability_of_improvement"] = {
+                **mean_probability_of_improvement(matrix[:, usable], best[usable], higher),
+                "cells": int(usable.sum()),
+            }
+        out["scores"][score] = entry
+    return out

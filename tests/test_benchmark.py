@@ -1,0 +1,163 @@
+"""acl-benchmark: the condition grids, the runner against a direct run_episode loop, resuming, and
+the statistics over training seeds against SciPy."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats as scipy_stats
+
+import acl_env
+from acl_env import shipped
+from acl_env.benchmark import grid as grids
+from acl_env.benchmark import run as bench
+from acl_env.benchmark import stats
+from acl_env.benchmark.summary import summarize_benchmark
+from acl_env.evaluation import baselines, run_episode
+
+SEA_TASKS = (
+    acl_env.ACL_CLIMB_SEA_ID,
+    acl_env.ACL_CLIMB_COMPLIANT_ID,
+    acl_env.ACL_CLIMB_NOROLL_SEA_ID,
+)
+
+
+@pytest.mark.parametrize("task", sorted(grids.GRIDS))
+def test_every_grid_has_48_cells_nominal_first_held_out_marked(task: str) -> None:
+    grid = grids.grid_for(task)
+    cells = grid.cells()
+    assert len(cells) >= 48 and len({c.key for c in cells}) == len(cells)
+    assert cells[0].key == "nominal" and not cells[0].held_out
+    assert all(len(c.kwargs) <= 2 for c in cells)
+    for cell in cells:
+        outside = [k for k, v in cell.kwargs.items() if not grid.axis(k).trained(v)]
+        assert cell.held_out == bool(outside), cell.key
+    assert any(c.held_out for c in cells) and any(not c.held_out for c in cells)
+    pole = grid.axis("pole_radius")
+    assert min(pole.values) <= 0.055 and max(pole.values) >= 0.12
+    friction = grid.axis("friction")
+    assert sum(v < friction.training[0] for v in friction.values) >= 2
+
+
+@pytest.mark.parametrize("task", SEA_TASKS)
+def test_sea_grid_training_ranges_are_the_recipe_randomisation(task: str) -> None:
+    """The grid marks as trained what the shipped recipe's domain randomisation draws."""
+    from acl_env.training import config
+
+    drawn = config.load_hyperparams(shipped.recipe_path(), task)["env_kwargs"]
+    drawn = drawn["domain_randomization"]
+    grid = grids.grid_for(task)
+    for axis in grid.axes:
+        assert tuple(axis.training) == tuple(drawn[axis.name]), axis.name
+    spring = grid.axis("spring_stiffness").values
+    assert min(spring) == pytest.approx(12.0) and max(spring) == pytest.approx(28.0)
+    assert max(grid.axis("control_latency").values) == pytest.approx(0.2)
+
+
+TWO_CELLS = grids.Grid(
+    (
+        grids.Axis("friction", (0.5, 1.0), 1.0, (0.7, 1.2)),
+        grids.Axis("pole_radius", (0.075,), 0.075, (0.065, 0.09)),
+    ),
+    fixed={"cycles_per_episode": 1},
+)
+SEEDS = (0, 1)
+
+
+@pytest.fixture(scope="module")
+def two_policies(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
+    """The shipped SEA policy and an exported copy of it under another name."""
+    folder = tmp_path_factory.mktemp("policies") / "seed_copy"
+    shutil.copytree(shipped.policy_dir("acl_climb_sea_ppo"), folder)
+    return [shipped.policy_dir("acl_climb_sea_ppo"), folder]
+
+
+@pytest.fixture(scope="module")
+def record(two_policies: list[Path], tmp_path_factory: pytest.TempPathFactory) -> dict:
+    path = tmp_path_factory.mktemp("bench") / "bench.json"
+    return bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, SEEDS, path)
+
+
+def test_record_is_a_direct_run_episode_loop(record: dict, two_policies: list[Path]) -> None:
+    """Each cell's figures are those of playing the same controllers with run_episode."""
+    assert list(record["cells"]) == ["nominal", "friction=0.5"]
+    cell = record["cells"]["friction=0.5"]
+    assert cell["held_out"] and not record["cells"]["nominal"]["held_out"]
+    names = set(cell["controllers"])
+    assert {"policy:acl_climb_sea_ppo", "policy:seed_copy", "open_loop_tuned"} <= names
+    folder = baselines.read_policy(two_policies[1])
+    kwargs = {"friction": 0.5, "cycles_per_episode": 1}
+    controllers, _ = baselines.build_controllers(
+        folder, kwargs, None, baselines.DEFAULT_TUNED_GAITS
+    )
+    by_name = {c.name: c for c in controllers}
+    for name, recorded in (("policy", "policy:seed_copy"), ("open_loop_tuned", "open_loop_tuned")):
+        controller = by_name[name]
+        env = controller.make_env()
+        policy = controller.make_policy(env)
+        episodes = [run_episode(env, policy, seed) for seed in SEEDS]
+        result = cell["controllers"][recorded]
+        climbs = [e.metrics()["climb_per_gait_cycle_m"] for e in episodes]
+        assert result["climb_per_gait_cycle_m"]["values"] == pytest.approx(climbs, rel=1e-9)
+        assert result["success_rate"] == np.mean([bench.success(e) for e in episodes])
+        assert result["falls"] == sum(e.fell for e in episodes)
+    # The two copies of one policy measure the same.
+    a, b = (cell["controllers"][f"policy:{n}"] for n in ("acl_climb_sea_ppo", "seed_copy"))
+    assert a["climb_per_gait_cycle_m"]["values"] == b["climb_per_gait_cycle_m"]["values"]
+
+
+def test_a_finished_record_resumes_without_running_and_other_settings_are_refused(
+    record: dict, two_policies: list[Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "bench.json"
+    acl_env.io.write_json(path, record)
+    monkeypatch.setattr(bench, "run_cell", lambda *a, **k: pytest.fail("ran a finished cell"))
+    again = bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, SEEDS, path)
+    assert again["cells"] == acl_env.io.read_json(path)["cells"]
+    with pytest.raises(ValueError, match="other settings"):
+        bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, (0, 1, 2), path)
+
+
+def test_summary_over_seeds(record: dict) -> None:
+    summary = summarize_benchmark(record)
+    climb = summary["scores"]["climb_per_gait_cycle_m"]
+    per_seed = list(climb["policies"]["per_seed"].values())
+    assert len(per_seed) == 2 and per_seed[0] == per_seed[1]
+    assert climb["policies"]["ci95"] == [per_seed[0], per_seed[0]]
+    poi = climb["probability_of_improvement"]
+    assert 0.0 <= poi["mean"] <= 1.0 and poi["cells"] == 2
+    assert summarize_benchmark(record, held_out_only=True)["cells"] == 1
+
+
+def test_iqm_and_bootstrap_interval_are_scipys() -> None:
+    values = np.array([3.0, 1.0, 9.0, 4.0, 2.0, 8.0, 5.0, 7.0])
+    assert stats.iqm(values) == pytest.approx(np.mean([3, 4, 5, 7]))
+    assert stats.iqm(values) == pytest.approx(scipy_stats.trim_mean(values, 0.25))
+    low, high = stats.bootstrap_interval(values, np.mean, seed=3)
+    direct = scipy_stats.bootstrap(
+        (values,),
+        np.mean,
+        n_resamples=stats.RESAMPLES,
+        method="percentile",
+        rng=np.random.default_rng(3),
+    ).confidence_interval
+    # resampling indices or values draws the same samples: the same interval, near enough
+    assert (low, high) == pytest.approx((direct.low, direct.high), abs=0.2)
+    assert low < np.mean(values) < high
+
+
+def test_probability_of_improvement_is_mann_whitney() -> None:
+    rng = np.random.default_rng(0)
+    x, y = rng.normal(size=(5, 3)), rng.normal(0.5, 1.0, size=(4, 3))
+    per_cell = stats.probability_of_improvement(x, y)
+    for j in range(3):
+        u = scipy_stats.mannwhitneyu(x[:, j], y[:, j]).statistic
+        assert per_cell[j] == pytest.approx(u / (5 * 4))
+    assert stats.probability_of_improvement(x, y, higher_is_better=False) == pytest.approx(
+        1 - per_cell
+    )
+    ties = stats.probability_of_improvement(np.ones((2, 1)), np.ones(1))
+    assert ties == pytest.approx([0.5])

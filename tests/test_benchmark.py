@@ -14,9 +14,9 @@ import acl_env
 from acl_env import shipped
 from acl_env.benchmark import grid as grids
 from acl_env.benchmark import run as bench
-from acl_env.benchmark import stats
 from acl_env.benchmark.summary import summarize_benchmark
 from acl_env.evaluation import baselines, run_episode
+from acl_env.evaluation import statistics as stats
 
 SEA_TASKS = (
     acl_env.ACL_CLIMB_SEA_ID,
@@ -161,3 +161,37 @@ def test_probability_of_improvement_is_mann_whitney() -> None:
     )
     ties = stats.probability_of_improvement(np.ones((2, 1)), np.ones(1))
     assert ties == pytest.approx([0.5])
+
+
+def test_two_recipes_compare_over_seeds() -> None:
+    better, worse = [0.30, 0.31, 0.29, 0.32, 0.30], [0.25, 0.26, 0.24, 0.27, 0.25]
+    result = stats.compare_samples(better, worse)
+    assert result["probability_of_improvement"]["mean"] == 1.0
+    assert result["iqm_difference"]["mean"] == pytest.approx(stats.iqm(better) - stats.iqm(worse))
+    low, high = result["iqm_difference"]["ci95"]
+    assert 0.0 < low <= result["iqm_difference"]["mean"] <= high
+    lower_is_better = stats.compare_samples(better, worse, higher_is_better=False)
+    assert lower_is_better["probability_of_improvement"]["mean"] == 0.0
+
+
+def test_acl_evaluate_and_acl_compare_over_training_seeds(
+    two_policies: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Several policies of one recipe: each plays beside the analytic controllers, the record
+    holds the summary over seeds, and acl-compare pairs two such records as recipes."""
+    from acl_env.evaluation.cli import main as evaluate_main
+    from acl_env.training.compare import main as compare_main
+
+    argv = ["--policy", *map(str, two_policies), "--episodes", "2", "--workers", "1"]
+    argv += ["--env-kwargs", "cycles_per_episode:1", "--no-progress-bar"]
+    document = evaluate_main([*argv, "--json", str(tmp_path / "a.json")])
+    assert {"policy:acl_climb_sea_ppo", "policy:seed_copy"} <= set(document["controllers"])
+    assert "policy" not in document["controllers"] and "paired_vs_policy" not in document
+    climb = document["over_seeds"]["climb_per_gait_cycle_m"]
+    assert len(climb["per_seed"]) == 2 and climb["best_analytic"]["controller"] != "policy"
+    assert "over 2 training seeds" in capsys.readouterr().out
+    shutil.copy(tmp_path / "a.json", tmp_path / "b.json")
+    result = compare_main([str(tmp_path / "a.json"), str(tmp_path / "b.json")])
+    entry = result["over_seeds"]["climb_per_gait_cycle_m"]
+    assert entry["probability_of_improvement"]["mean"] == 0.5
+    assert entry["iqm_difference"]["mean"] == 0.0

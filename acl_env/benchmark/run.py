@@ -13,29 +13,20 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from acl_env.benchmark.grid import Cell, Grid
-from acl_env.evaluation.baselines import (
-    AT_POLICY_CADENCE,
-    DEFAULT_TUNED_GAITS,
-    Controller,
-    build_controllers,
-    read_policy,
-    shown_path,
-)
+from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, shown_path
 from acl_env.evaluation.protocol import Episode
-from acl_env.evaluation.runner import run_controllers
+from acl_env.evaluation.runner import evaluate, policies_controllers
 from acl_env.io import jsonable, read_json, write_json
 
 FORMAT = "acl_env.benchmark/1"
 # Per episode and controller; success is neither a fall nor a net descent.
 METRICS = ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "touched_arc_deg")
-POLICY_PREFIX = "policy:"
 
 
 def success(episode: Episode) -> bool:
@@ -65,31 +56,6 @@ def cell_result(episodes: Sequence[Episode]) -> dict[str, Any]:
     return result
 
 
-def policy_name(path: str | Path) -> str:
-    """A policy's controller name in the record: ``policy:<folder name>``."""
-    return f"{POLICY_PREFIX}{Path(path).name}"
-
-
-def cell_controllers(
-    policies: Sequence[Path], cell_kwargs: dict[str, Any], tuned_path: Path
-) -> tuple[list[Controller], list[Controller]]:
-    """The controllers of one cell: those that run first (each policy and the analytic
-    controllers judged against the first) and those at the policies' cadence (run after,
-    once their cadence is known)."""
-    first: list[Controller] = []
-    analytic: list[Controller] = []
-    for index, path in enumerate(policies):
-        folder = read_policy(path)
-        controllers, _ = build_controllers(folder, cell_kwargs, None, tuned_path)
-        policy = next(c for c in controllers if c.name == "policy")
-        first.append(replace(policy, name=policy_name(path), label=Path(path).name))
-        if index == 0:
-            analytic = [c for c in controllers if c.name != "policy"]
-    first += [c for c in analytic if c.name not in AT_POLICY_CADENCE]
-    later = [c for c in analytic if c.name in AT_POLICY_CADENCE]
-    return first, later
-
-
 def run_cell(
     policies: Sequence[Path],
     cell_kwargs: dict[str, Any],
@@ -98,13 +64,8 @@ def run_cell(
     tuned_path: Path = DEFAULT_TUNED_GAITS,
 ) -> dict[str, dict[str, Any]]:
     """Every controller of one cell on ``seeds``: ``{controller: cell_result}``."""
-    first, later = cell_controllers(policies, cell_kwargs, tuned_path)
-    results = run_controllers(first, seeds, pool, progress=False)
-    if later:
-        played = [e for name, eps in results.items() if name.startswith(POLICY_PREFIX) for e in eps]
-        rate = sum(e.keyframes for e in played) / sum(e.steps for e in played)
-        later = [replace(c, phase_rate=float(rate)) for c in later]
-        results |= run_controllers(later, seeds, pool, progress=False)
+    controllers, _ = policies_controllers(policies, cell_kwargs, tuned_path)
+    results = evaluate(controllers, seeds, workers=1, pool=pool, progress=False)
     return {name: cell_result(episodes) for name, episodes in results.items()}
 
 

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from acl_env.benchmark.run import POLICY_PREFIX
-from acl_env.benchmark.stats import bootstrap_interval, iqm, mean_probability_of_improvement
+from acl_env.evaluation.runner import POLICY_PREFIX
+from acl_env.evaluation.statistics import bootstrap_interval, iqm, mean_probability_of_improvement
 
 # Each score and whether more is better.
 SCORES = {

@@ -22,7 +22,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from acl_env import shipped
+from acl_env import current_id, shipped
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
@@ -36,7 +36,8 @@ from acl_env.evaluation.baselines import (
 from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
-from acl_env.evaluation.runner import evaluate
+from acl_env.evaluation.runner import POLICY_PREFIX, evaluate, policies_controllers
+from acl_env.evaluation.statistics import over_seeds
 from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
 from acl_env.training import cli
@@ -67,10 +68,12 @@ def make_parser() -> cli.ArgumentParser:
     which.add_argument(
         "--policy",
         type=policy_folder,
-        default=DEFAULT_POLICY,
+        nargs="+",
+        default=[DEFAULT_POLICY],
         help=f"a shipped policy ({', '.join(shipped.list_policies())}; default "
         f"{shipped.DEFAULT_POLICY}), a pretrained policy folder or an SB3 run folder (with "
-        "--trust-pickles)",
+        "--trust-pickles); several (the training seeds of one recipe): each plays, and the "
+        "summary is over seeds (IQM, bootstrap interval, probability of improvement)",
     )
     which.add_argument("--no-policy", action="store_true", help="open-loop controllers only")
     cli.add_trust_pickles(parser)
@@ -181,23 +184,41 @@ def _checked_controllers(
             check_reward_weights(weights)
         except (ValueError, TypeError) as error:
             parser.error(f"argument --reward-weights: {error}")
-    folder = None
-    if not args.no_policy:
+    folders = []
+    for path in [] if args.no_policy else args.policy:
         try:
-            folder = read_policy(args.policy)
+            folders.append(read_policy(path))
         except ValueError as error:
             parser.error(f"argument --policy: {error}")
-        if not isinstance(folder, PretrainedPolicy):
+        if not isinstance(folders[-1], PretrainedPolicy):
             from acl_env.training.runs import require_trust  # an SB3 folder: PyYAML is here
 
             try:
-                require_trust(args.policy, args.trust_pickles)
+                require_trust(path, args.trust_pickles)
             except ValueError as error:
                 parser.error(f"argument --policy: {error}")
+    tasks = {current_id(folder.env_id) for folder in folders}
+    if len(tasks) > 1:
+        parser.error(f"argument --policy: the policies are of several tasks: {sorted(tasks)}")
     try:
-        controllers, notes = build_controllers(
-            folder, overrides, weights, args.tuned_gaits, args.tuned_key, args.trust_pickles
-        )
+        if len(folders) > 1:
+            controllers, notes = policies_controllers(
+                args.policy,
+                overrides,
+                args.tuned_gaits,
+                weights,
+                args.tuned_key,
+                args.trust_pickles,
+            )
+        else:
+            controllers, notes = build_controllers(
+                folders[0] if folders else None,
+                overrides,
+                weights,
+                args.tuned_gaits,
+                args.tuned_key,
+                args.trust_pickles,
+            )
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
     except (ValueError, TypeError, AttributeError) as error:  # a malformed gait override
@@ -246,14 +267,17 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         summaries,
         env_ids={name: env_id for name, (env_id, _) in tasks.items()},
         env_kwargs={name: kwargs for name, (_, kwargs) in tasks.items()},
-        policy=None if args.no_policy else shown_path(args.policy),
+        policy=None if args.no_policy else ", ".join(shown_path(p) for p in args.policy),
         notes=notes,
         # present whenever a same-cadence open loop is
         same_cadence_phase_rate=(
-            summaries[REFERENCE]["mean_phase_rate"] if SAME_CADENCE in results else None
+            results[SAME_CADENCE][0].mean_phase_rate if SAME_CADENCE in results else None
         ),
         labels=labels,
     )
+    policies = [name for name in results if name.startswith(POLICY_PREFIX)]
+    if policies:  # several policies: the summary over seeds
+        document["over_seeds"] = over_seeds(summaries, policies)
     # Every file first, then the printing: a reader that stops reading (| head) loses no file.
     if args.json:
         write_record(args.json, document)
@@ -270,10 +294,30 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     if "paired_vs_policy" in document:
         paired = {labels[name]: d for name, d in document["paired_vs_policy"].items()}
         print(format_paired(paired, labels[REFERENCE]))
+    if policies:
+        print(format_over_seeds(document["over_seeds"], labels))
     for note in notes:
         name, sep, rest = note.partition(": ")
         print(f"{labels.get(name, name)}{sep}{rest}" if name in by_name else note)
     return document
+
+
+def format_over_seeds(summary: dict[str, Any], labels: dict[str, str]) -> str:
+    """The policies over training seeds: IQM [95 % interval], the best analytic controller and
+    the probability that a seed beats it."""
+    lines = [f"over {len(next(iter(summary.values()))['per_seed'])} training seeds:"]
+    for metric, entry in summary.items():
+        low, high = entry["ci95"]
+        line = f"  {metric}: IQM {entry['iqm']:.4g} [{low:.4g}, {high:.4g}]"
+        if "best_analytic" in entry:
+            best, poi = entry["best_analytic"], entry["probability_of_improvement"]
+            name = labels.get(best["controller"], best["controller"])
+            line += (
+                f"; best analytic: {name} {best['mean']:.4g}; P(seed better) "
+                f"{poi['mean']:.2f} [{poi['ci95'][0]:.2f}, {poi['ci95'][1]:.2f}]"
+            )
+        lines.append(line)
+    return "\n".join(lines)
 
 
 # The console script (pyproject.toml): main() without its returned document.

@@ -6,11 +6,19 @@ import multiprocessing
 from collections.abc import Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import replace
+from pathlib import Path
+from typing import Any
 
 import gymnasium
 from tqdm import tqdm
 
-from acl_env.evaluation.baselines import AT_POLICY_CADENCE, Controller
+from acl_env.evaluation.baselines import (
+    AT_POLICY_CADENCE,
+    DEFAULT_TUNED_GAITS,
+    Controller,
+    build_controllers,
+    read_policy,
+)
 from acl_env.evaluation.protocol import Episode, Policy, run_episode
 from acl_env.training import cli
 
@@ -75,7 +83,8 @@ def evaluate(
     progress: bool = True,
     pool: Executor | None = None,
 ) -> dict[str, list[Episode]]:
-    """Run the controllers; the same-cadence open loops run last, at the policy's mean rate.
+    """Run the controllers; the same-cadence open loops run last, at the mean rate of the policy
+    (or of the policies, :func:`policies_controllers`).
 
     Episodes run in ``pool`` when given (reused across calls), else in ``workers`` processes.
     """
@@ -87,11 +96,51 @@ def evaluate(
     try:
         results = run_controllers(first, seeds, pool, gym_packages, progress)
         if later:
-            policy = results["policy"]
-            rate = sum(e.keyframes for e in policy) / sum(e.steps for e in policy)
+            played = [e for name, eps in results.items() if is_policy(name) for e in eps]
+            rate = sum(e.keyframes for e in played) / sum(e.steps for e in played)
             later = [replace(c, phase_rate=float(rate)) for c in later]
             results |= run_controllers(later, seeds, pool, gym_packages, progress)
     finally:
         if own_pool and pool is not None:
             pool.shutdown()
     return {c.name: results[c.name] for c in controllers}
+
+
+# A policy's controller name when several policies (the training seeds of one recipe) play.
+POLICY_PREFIX = "policy:"
+
+
+def is_policy(name: str) -> bool:
+    """Whether controller ``name`` is a policy: ``policy``, or one of several."""
+    return name == "policy" or name.startswith(POLICY_PREFIX)
+
+
+def policy_name(path: str | Path) -> str:
+    """A policy's controller name among several: ``policy:<folder name>``."""
+    return f"{POLICY_PREFIX}{Path(path).name}"
+
+
+def policies_controllers(
+    policies: Sequence[str | Path],
+    overrides: dict[str, Any],
+    tuned_path: Path = DEFAULT_TUNED_GAITS,
+    reward_weights: dict[str, float] | None = None,
+    tuned_key: str | None = None,
+    trust_pickles: bool = False,
+) -> tuple[list[Controller], list[str]]:
+    """Each policy (named :func:`policy_name`) and the analytic controllers the first is judged
+    against (:func:`~acl_env.evaluation.baselines.build_controllers`), under ``overrides``; and
+    that build's notes."""
+    own: list[Controller] = []
+    analytic: list[Controller] = []
+    notes: list[str] = []
+    for index, path in enumerate(policies):
+        folder = read_policy(path)
+        controllers, built_notes = build_controllers(
+            folder, overrides, reward_weights, tuned_path, tuned_key, trust_pickles
+        )
+        policy = next(c for c in controllers if c.name == "policy")
+        own.append(replace(policy, name=policy_name(path), label=Path(path).name))
+        if index == 0:
+            analytic, notes = [c for c in controllers if c.name != "policy"], built_notes
+    return own + analytic, notes

@@ -9,6 +9,11 @@ interval (:func:`acl_env.evaluation.paired_differences`) say whether two trained
 policy and an ablation of it) differ, where their intervals side by side often overlap. Files run
 on other seeds, on another env or under other conditions (``CONDITIONS``: a held-out evaluation
 against a default one), or without the controller, are refused with a one-line error.
+
+Two records of several policies each (``acl-evaluate --policy SEED0 SEED1 ...``: two recipes,
+each over its training seeds) are compared as recipes: per metric, each recipe's interquartile
+mean, their difference and the probability that a seed of A beats a seed of B, with bootstrap
+95 % intervals over seeds (:func:`acl_env.evaluation.statistics.compare_samples`).
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ from typing import Any
 
 from acl_env.evaluation import format_paired, paired_differences
 from acl_env.evaluation.records import controller_env, controller_summary, read_record
+from acl_env.evaluation.statistics import SEED_METRICS, compare_samples
 from acl_env.io import console_script, write_json
 from acl_env.training import cli
 
@@ -41,6 +47,36 @@ def read_controller(path: Path, controller: str) -> tuple[dict[str, Any], dict[s
     return summary, env
 
 
+def compare_recipes(
+    first: Path, second: Path, recipes: list[dict[str, Any]], labels: tuple[str, str]
+) -> dict[str, Any]:
+    """Two recipes, each evaluated over its training seeds (``acl-evaluate --policy SEED ...``):
+    per metric, each IQM, their difference and the probability that a seed of the first beats
+    one of the second, with bootstrap intervals over seeds."""
+    over: dict[str, Any] = {}
+    for metric, higher in SEED_METRICS.items():
+        x, y = (list(recipe[metric]["per_seed"].values()) for recipe in recipes)
+        over[metric] = {
+            "iqm": [recipes[0][metric]["iqm"], recipes[1][metric]["iqm"]],
+            **compare_samples(x, y, higher),
+        }
+    return {"labels": list(labels), "files": [str(first), str(second)], "over_seeds": over}
+
+
+def format_recipes(result: dict[str, Any]) -> str:
+    """The recipe comparison as lines of text."""
+    a, b = result["labels"]
+    lines = [f"{a} against {b}, over training seeds (bootstrap 95 % intervals):"]
+    for metric, entry in result["over_seeds"].items():
+        diff, poi = entry["iqm_difference"], entry["probability_of_improvement"]
+        lines.append(
+            f"  {metric}: IQM {entry['iqm'][0]:.4g} vs {entry['iqm'][1]:.4g}, difference "
+            f"{diff['mean']:+.4g} [{diff['ci95'][0]:+.4g}, {diff['ci95'][1]:+.4g}]; "
+            f"P({a} better) {poi['mean']:.2f} [{poi['ci95'][0]:.2f}, {poi['ci95'][1]:.2f}]"
+        )
+    return "\n".join(lines)
+
+
 def compare(
     first: Path, second: Path, controller: str = "policy", labels: tuple[str, str] | None = None
 ) -> dict[str, Any]:
@@ -50,6 +86,9 @@ def compare(
     a, b = (labels or (first.stem, second.stem))[:2]
     if a == b:
         raise ValueError(f"the two labels must differ, got {a!r} twice")
+    recipes = [read_record(path).get("over_seeds") for path in (first, second)]
+    if controller == "policy" and all(recipes):
+        return compare_recipes(first, second, recipes, (a, b))
     (summary_a, env_a), (summary_b, env_b) = (
         read_controller(first, controller),
         read_controller(second, controller),
@@ -86,7 +125,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     a, b = result["labels"]
     if args.json:  # the file first, then the printing
         write_json(args.json, result)
-    print(format_paired({b: result["paired"]}, reference=f"{a} ({args.controller})"))
+    if "over_seeds" in result:
+        print(format_recipes(result))
+    else:
+        print(format_paired({b: result["paired"]}, reference=f"{a} ({args.controller})"))
     return result
 
 

@@ -79,6 +79,78 @@ def mean_probability_of_improvement(
     return {"mean": statistic(np.asarray(scores, dtype=float)), "ci95": [low, high]}
 
 
+# The metrics summarised over training seeds, and whether more is better.
+SEED_METRICS = {
+    "climb_per_gait_cycle_m": True,
+    "slip_per_m": False,
+    "energy_per_m": False,
+    "reward_per_gait_cycle": True,
+}
+
+
+def over_seeds(summaries: dict[str, dict[str, Any]], policies: Sequence[str]) -> dict[str, Any]:
+    """The policies (training seeds of one recipe) over seeds, per metric: each seed's mean, the
+    IQM with its bootstrap 95 % interval, the best analytic controller (the best mean among the
+    others) and the probability that a seed's mean beats it, with its interval."""
+    analytic = [name for name in summaries if name not in policies]
+    out: dict[str, Any] = {}
+    for metric, higher in SEED_METRICS.items():
+        per_seed = np.array([summaries[p][metric]["mean"] for p in policies], dtype=float)
+        means = {n: float(summaries[n][metric]["mean"]) for n in analytic}
+        means = {n: m for n, m in means.items() if np.isfinite(m)}
+        entry: dict[str, Any] = {
+            "per_seed": dict(zip(policies, per_seed.tolist(), strict=True)),
+            "iqm": float(iqm(per_seed)),
+            "ci95": list(bootstrap_interval(per_seed)),
+        }
+        if means:
+            best = (max if higher else min)(means, key=means.__getitem__)
+            entry["best_analytic"] = {"controller": best, "mean": means[best]}
+            entry["probability_of_improvement"] = mean_probability_of_improvement(
+                per_seed[:, None], np.array([means[best]]), higher
+            )
+        out[metric] = entry
+    return out
+
+
+def compare_samples(
+    first: Sequence[float], second: Sequence[float], higher_is_better: bool = True, seed: int = 0
+) -> dict[str, Any]:
+    """Two recipes' training seeds (one value each): the IQM difference, first minus second,
+    and the probability that a seed of the first beats one of the second, each with a
+    bootstrap 95 % interval resampling both sets of seeds independently."""
+    x, y = np.asarray(first, dtype=float), np.asarray(second, dtype=float)
+
+    def difference(a: np.ndarray, b: np.ndarray) -> float:
+        return float(iqm(a) - iqm(b))
+
+    def improvement(a: np.ndarray, b: np.ndarray) -> float:
+        return float(probability_of_improvement(a[:, None], b[:, None], higher_is_better)[0])
+
+    out: dict[str, Any] = {}
+    for name, statistic in (
+        ("iqm_difference", difference),
+        ("probability_of_improvement", improvement),
+    ):
+        point = statistic(x, y)
+        if min(len(x), len(y)) < 2:
+            out[name] = {"mean": point, "ci95": [point, point]}
+            continue
+        result = stats.bootstrap(
+            (x, y),
+            statistic,
+            vectorized=False,
+            paired=False,
+            confidence_level=CONFIDENCE,
+            n_resamples=RESAMPLES,
+            method="percentile",
+            rng=np.random.default_rng(seed),
+        )
+        ci = result.confidence_interval
+        out[name] = {"mean": point, "ci95": [float(ci.low), float(ci.high)]}
+    return out
+
+
 def performance_profile(scores: np.ndarray, thresholds: np.ndarray) -> np.ndarray:
     """The fraction of runs x cells whose score exceeds each threshold (a run's score
     distribution, the curve of the performance profile)."""

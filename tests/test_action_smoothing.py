@@ -15,6 +15,7 @@ import pytest
 
 from acl_env import shipped
 from acl_env.constants import CONTACT_TIMECONST, POLE_GEOM, shell_name
+from acl_env.envs.kwargs import make_quietly
 from acl_env.model import apply_physics_options, build_model
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -102,14 +103,14 @@ def test_shipped_noroll_policy_does_not_flip_its_action(folder: Path, flips: boo
     """The non-rolling policy shipped before (two stages, no action-rate penalty) climbed mostly
     by flipping its residual at the control rate: about 0.6 of the range's half width per step
     (README, "Chatter"). The shipped recipe's action-rate term keeps the policy smooth."""
-    import gymnasium as gym
 
     from acl_env.evaluation import run_episode
     from acl_env.evaluation.baselines import evaluation_env_kwargs
     from acl_env.training.policy import load_policy, read_policy_folder
 
     policy = read_policy_folder(folder)
-    env = gym.make(policy.env_id, **evaluation_env_kwargs(policy), cycles_per_episode=1)
+    # the policy's own (older) task version, made as its record was: quietly
+    env = make_quietly(policy.env_id, **evaluation_env_kwargs(policy), cycles_per_episode=1)
     # The repository's own SB3 folder: trusted on purpose (its files are pickles).
     episode = run_episode(env, load_policy(policy, env, trust_pickles=True), 0)
     env.close()

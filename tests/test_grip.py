@@ -10,7 +10,14 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from acl_env import ACL_CLIMB_COMPLIANT_ID, ACL_CLIMB_SEA_ID, COMPLIANT_KWARGS, tuned_gaits
+from acl_env import (
+    ACL_CLIMB_BENCHMARK_ID,
+    ACL_CLIMB_COMPLIANT_ID,
+    ACL_CLIMB_ID,
+    ACL_CLIMB_SEA_ID,
+    COMPLIANT_KWARGS,
+    tuned_gaits,
+)
 from acl_env.envs.grip import GRIP_RANGE, GRIP_TICKS, GripController
 from acl_env.envs.modulation import interpolate_offsets, section_weights
 
@@ -157,7 +164,7 @@ def test_a_copy_carries_the_controller_state() -> None:
     ],
 )
 def test_bad_grip_options_are_refused_by_name(kwargs: dict, message: str) -> None:
-    env_id = ACL_CLIMB_SEA_ID if kwargs.get("actuator_model") != "servo" else "acl_env/ACLClimb-v1"
+    env_id = ACL_CLIMB_SEA_ID if kwargs.get("actuator_model") != "servo" else ACL_CLIMB_ID
     kwargs = {
         k: v for k, v in kwargs.items() if env_id == ACL_CLIMB_SEA_ID or k != "actuator_model"
     }
@@ -210,7 +217,7 @@ def test_tuner_grip_mode_searches_the_grip_on_the_ids_gait(tmp_path) -> None:
         with pytest.raises(UsageError, match=extra[0]):
             settings_from_args(make_parser().parse_args([*argv, *extra]))
     with pytest.raises(UsageError, match="--grip"):  # the servo has no springs to read
-        settings_from_args(make_parser().parse_args(["--grip", "--env", "acl_env/ACLClimb-v2"]))
+        settings_from_args(make_parser().parse_args(["--grip", "--env", ACL_CLIMB_BENCHMARK_ID]))
     output = tmp_path / "tuned.json"
     entry = main(
         [*argv, "--seeds", "0", "--n-trials", "2", "--validate-seeds", "1", "--validate-top",

@@ -11,6 +11,8 @@ from typing import Any
 
 import pytest
 
+from acl_env import ACL_CLIMB_ID
+
 EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
 SCRIPT = EXPERIMENTS / "noroll_ceiling" / "noroll_ceiling.py"
 GAIT = {"amp_pitch": 0.04, "amp_radial": 0.02, "pitch": 0.08, "rolls_per_cycle": 0.0}
@@ -69,7 +71,7 @@ def test_summary_names_the_best_cell_that_neither_rolled_nor_fell() -> None:
 
 def test_a_rolling_env_is_refused(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exit_:
-        _ceiling()["main"](["--env", "acl_env/ACLClimb-v1", "--sweeps", "friction"])
+        _ceiling()["main"](["--env", ACL_CLIMB_ID, "--sweeps", "friction"])
     assert exit_.value.code == 2
     assert "is not a non-rolling env" in capsys.readouterr().err
 

@@ -18,6 +18,7 @@ PY = sys.executable
 # runs with python -m.
 COMMANDS = {
     "acl-evaluate": [PY, "-m", "acl_env.evaluation"],
+    "acl-benchmark": [PY, "-m", "acl_env.benchmark.cli"],
     "acl-train": [PY, "-m", "acl_env.training.trainer"],
     "acl-tune-gait": [PY, "-m", "acl_env.tuning"],
     "acl-compare": [PY, "-c", "from acl_env.training.compare import run; run()"],

@@ -307,10 +307,10 @@ def test_acl_evaluate_takes_a_shipped_name_or_a_folder(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     parser = evaluate_cli.make_parser()
-    assert parser.parse_args([]).policy == shipped.policy_dir()
+    assert parser.parse_args([]).policy == [shipped.policy_dir()]
     for name in shipped.list_policies():
-        assert parser.parse_args(["--policy", name]).policy == shipped.policy_dir(name)
-    assert parser.parse_args(["--policy", str(tmp_path)]).policy == tmp_path
+        assert parser.parse_args(["--policy", name]).policy == [shipped.policy_dir(name)]
+    assert parser.parse_args(["--policy", str(tmp_path)]).policy == [tmp_path]
     with pytest.raises(SystemExit) as exit_info:
         parser.parse_args(["--policy", "no_such_policy"])
     assert exit_info.value.code == 2

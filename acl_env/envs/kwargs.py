@@ -77,9 +77,11 @@ def make_quietly(env_id: str, **env_kwargs: Any) -> gymnasium.Env:
     """``gymnasium.make`` without gymnasium's note that ``env_id`` has a newer version: for the
     ids the library spells itself (the evaluation's controllers: a benchmark task as its base id
     and kwargs, the base gaits), where the note is about that spelling, not an id the user chose."""
+    from acl_env import current_id  # a task's old id: made under its current name
+
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", ".*is out of date", DeprecationWarning)
-        return gymnasium.make(env_id, **env_kwargs)
+        return gymnasium.make(current_id(env_id), **env_kwargs)
 
 
 def check_env_kwargs(

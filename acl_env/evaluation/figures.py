@@ -110,7 +110,10 @@ def record_video(
         for i in range(length)
     ]
     fps = max(1, round(speedup / env.unwrapped.dt))
-    imageio.mimsave(path, video, fps=fps)
+    if Path(path).suffix.lower() == ".gif":  # imageio's GIF writer takes a frame duration (ms)
+        imageio.mimsave(path, video, duration=1000.0 / fps)
+    else:
+        imageio.mimsave(path, video, fps=fps)
 
 
 def _grab(frames: list[np.ndarray]) -> Callable[..., None]:

@@ -20,7 +20,7 @@ from typing import Any
 from tqdm import tqdm
 
 from acl_env import current_id, shipped
-from acl_env.benchmark.figures import TITLES, plot_heat_maps
+from acl_env.benchmark.figures import TITLES, plot_heat_maps, plot_profiles
 from acl_env.benchmark.grid import grid_for
 from acl_env.benchmark.run import run_benchmark
 from acl_env.benchmark.summary import summarize_benchmark
@@ -69,7 +69,8 @@ def make_parser() -> cli.ArgumentParser:
     parser.add_argument(
         "--plots",
         type=cli.output_file(".png", ".pdf", ".svg"),
-        help="heat maps: FILE gets one figure per score, named FILE's stem + _<score>",
+        help="figures: FILE's stem + _<score> for each score's heat maps, + _profiles for the "
+        "performance profiles",
     )
     parser.add_argument(
         "--workers",
@@ -128,6 +129,9 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         for score, path in plot_paths(args.plots).items():
             with atomic_output(path) as tmp:
                 plot_heat_maps(record, score, tmp, labels)
+        profiles = args.plots.with_name(f"{args.plots.stem}_profiles{args.plots.suffix}")
+        with atomic_output(profiles) as tmp:
+            plot_profiles(record, tmp, labels)
     print(f"{task}: {len(cells)} cells, {len(seeds)} episodes each, {len(args.policy)} policies")
     print(json.dumps(record["summary"]["all"]["scores"], indent=1))
     return record

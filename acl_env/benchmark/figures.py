@@ -12,6 +12,7 @@ import numpy as np
 
 from acl_env.benchmark.grid import Cell
 from acl_env.benchmark.summary import controllers_of
+from acl_env.evaluation.statistics import performance_profile
 
 TITLES = {
     "success_rate": ("success rate (no fall, climbs)", 100.0, "{:.0f}", "%"),
@@ -78,7 +79,8 @@ def plot_heat_maps(
                     ha="center",
                     va="center",
                     fontsize=8,
-                    color="white",
+                    # dark text on the colour map's light end
+                    color="black" if (data[i, j] - vmin) > 0.6 * (vmax - vmin) else "white",
                 )
                 falls = np.mean([res["falls"] / res["episodes"] for res in results])
                 if falls > 0.5:
@@ -104,4 +106,54 @@ def plot_heat_maps(
         fig.colorbar(image, ax=grid, shrink=0.6, label=f"{title} ({unit})" if unit else title)
     fig.suptitle(f"{record['settings']['task']}: {title}; x: falls in most episodes", fontsize=12)
     fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def plot_profiles(
+    record: dict[str, Any], path: str | Path, labels: dict[str, str] | None = None
+) -> None:
+    """Performance profiles over the grid: for each controller, the fraction of cells (of seeds
+    x cells for the policies) whose climb per gait cycle exceeds each threshold, a fall in most
+    episodes counting as no climb (Agarwal et al. 2021, Fig. 5's curves over tasks)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = labels or {}
+    policies, analytic = controllers_of(record)
+    groups = ({"policies": policies} if policies else {}) | {name: [name] for name in analytic}
+
+    def climb(result: dict[str, Any]) -> float:
+        fell = result["falls"] > result["episodes"] / 2
+        value = _value(result, "climb_per_gait_cycle_m")
+        return 0.0 if fell or not np.isfinite(value) else 100.0 * value
+
+    scores = {
+        group: np.array(
+            [climb(c["controllers"][n]) for c in record["cells"].values() for n in names]
+        )
+        for group, names in groups.items()
+    }
+    top = max(float(s.max(initial=0.0)) for s in scores.values())
+    thresholds = np.linspace(0.0, top, 200)
+    fig, ax = plt.subplots(figsize=(7.5, 4.5), layout="constrained")
+    for group, values in scores.items():
+        label = (
+            f"policies ({len(policies)} seeds)" if group == "policies" else labels.get(group, group)
+        )
+        ax.plot(
+            thresholds,
+            performance_profile(values, thresholds),
+            lw=2 if group == "policies" else 1.3,
+            label=label,
+        )
+    ax.set_xlabel("climb per gait cycle, cm (a fall in most episodes: 0)")
+    ax.set_ylabel("fraction of cells above")
+    ax.set_title(
+        f"{record['settings']['task']}: performance profiles over {len(record['cells'])} cells"
+    )
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=9)
+    fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -811,3 +811,18 @@ def test_controllers_of_a_benchmark_policy_make_their_envs_without_version_warni
     warnings.filterwarnings("ignore", ".*is out of date", DeprecationWarning)
     with pytest.warns(DeprecationWarning, match="now registered as acl_env/ACLClimbPaperGait-v1"):
         check_env_kwargs("acl_env/ACLClimb-v1", {}).close()
+
+
+def test_a_refused_kwarg_names_the_policys_registered_task(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The error names the task the user asked for (ACLClimbCompliant-v1), not the base id the
+    evaluation spells it on, and the controller in the reader's words."""
+    from acl_env.evaluation.cli import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--policy", "acl_climb_compliant_ppo", "--env-kwargs", "friction:-1"])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert "refused by acl_env/ACLClimbCompliant-v1" in err and "residual policy" in err, err
+    assert "ACLClimbPaperGait" not in err and "ACLClimb-v1" not in err

@@ -43,7 +43,10 @@ def clean_source(tmp_path_factory: pytest.TempPathFactory) -> Path:
     target = tmp_path_factory.mktemp("source")
     for name in filter(None, listed.stdout.decode().split("\0")):
         source = root / name
-        if source.is_file():
+        if source.is_symlink():  # acl_env/assets -> ../assets: kept a link
+            (target / name).parent.mkdir(parents=True, exist_ok=True)
+            (target / name).symlink_to(os.readlink(source))
+        elif source.is_file():
             (target / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(source, target / name)
     return target

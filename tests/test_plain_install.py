@@ -24,6 +24,13 @@ class Blocker(importlib.abc.MetaPathFinder):
 sys.meta_path.insert(0, Blocker())
 """
 
+# Drops an editable install's import hook (pip install -e), which would find acl_env.assets in
+# this checkout whatever the source tree on the path lacks.
+NO_EDITABLE = """
+import sys
+sys.meta_path[:] = [f for f in sys.meta_path if "__editable__" not in getattr(f, "__module__", "")]
+"""
+
 
 @pytest.mark.slow
 def test_wheel_without_torch_evaluates_the_shipped_policy(
@@ -56,3 +63,38 @@ def test_wheel_without_torch_evaluates_the_shipped_policy(
     record = json.loads((work / "e.json").read_text())
     assert record["controllers"]["policy"]["climb_per_gait_cycle_m"]["n"] == 2
     assert str(target) in record["policy"] or record["policy"].startswith("acl_env")
+
+
+@pytest.mark.slow
+def test_readme_python_example_runs_from_the_clones_root(
+    clean_source: Path, installed_wheel: Path, tmp_path: Path
+) -> None:
+    """After ``pip install .``, the README's Python example run from the clone's root, where the
+    source tree's ``acl_env`` comes first on the path (its ``assets`` is a link to the top-level
+    assets/), as from anywhere else."""
+    text = (clean_source / "README.md").read_text()
+    start = text.index("## Python API")
+    code = text[
+        text.index("```python", start) + len("```python") : text.index(
+            "```", text.index("```python", start) + 9
+        )
+    ]
+    # As on a machine where only the wheel is installed: no editable install of this checkout.
+    unedit = tmp_path / "unedit"
+    unedit.mkdir()
+    (unedit / "sitecustomize.py").write_text(NO_EDITABLE)
+    env = {
+        "PYTHONPATH": os.pathsep.join([str(unedit), str(installed_wheel)]),
+        "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
+        "MUJOCO_GL": "egl",
+    }
+    run = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=clean_source,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "climb_per_gait_cycle_m" in run.stdout

@@ -26,6 +26,8 @@ COMMANDS = {
     "acl-gait-plot": [PY, "-m", "acl_env.gait"],
     "python -m acl_env": [PY, "-m", "acl_env"],
     "export": [PY, "-m", "acl_env.training.export"],
+    "train/train_ppo.py": [PY, str(ROOT / "train" / "train_ppo.py")],
+    "train/evaluate.py": [PY, str(ROOT / "train" / "evaluate.py")],
 }
 
 

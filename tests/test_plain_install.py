@@ -98,3 +98,14 @@ def test_readme_python_example_runs_from_the_clones_root(
     )
     assert run.returncode == 0, run.stderr[-3000:]
     assert "climb_per_gait_cycle_m" in run.stdout
+    for script, usage in (("train_ppo.py", "acl-train"), ("evaluate.py", "acl-evaluate")):
+        shown = subprocess.run(
+            [sys.executable, f"train/{script}", "--help"],
+            cwd=clean_source,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
+        assert shown.returncode == 0, shown.stderr[-3000:]
+        assert shown.stdout.startswith(f"usage: {usage}")

@@ -22,12 +22,12 @@ from tqdm import tqdm
 from acl_env import current_id, shipped
 from acl_env.benchmark.figures import TITLES, plot_heat_maps, plot_profiles
 from acl_env.benchmark.grid import grid_for
-from acl_env.benchmark.run import run_benchmark
+from acl_env.benchmark.run import SettingsMismatch, run_benchmark
 from acl_env.benchmark.summary import summarize_benchmark
-from acl_env.evaluation.baselines import LABELS, read_policy
+from acl_env.evaluation.baselines import read_policy
 from acl_env.evaluation.cli import policy_folder
-from acl_env.evaluation.runner import make_pool
-from acl_env.io import atomic_output, console_script, read_json, write_json
+from acl_env.evaluation.runner import PolicySetError, make_pool
+from acl_env.io import atomic_output, console_script, jsonable, read_json, write_json
 from acl_env.training import cli
 
 DEFAULT_EPISODES = 10
@@ -116,8 +116,10 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
             record = run_benchmark(
                 task, args.policy, grid, seeds, args.json, pool, on_cell=lambda _: bar.update()
             )
-    except ValueError as error:
+    except SettingsMismatch as error:
         parser.error(f"argument --json: {error}")
+    except PolicySetError as error:
+        parser.error(f"argument --policy: {error}")
     finally:
         if pool is not None:
             pool.shutdown()
@@ -125,7 +127,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     record["summary"] = {"all": summary, "held_out": summarize_benchmark(record, True)}
     write_json(args.json, record)
     if args.plots:
-        labels = {**LABELS, **{f"policy:{Path(p).name}": Path(p).name for p in args.policy}}
+        labels = record.get("labels", {})
         for score, path in plot_paths(args.plots).items():
             with atomic_output(path) as tmp:
                 plot_heat_maps(record, score, tmp, labels)
@@ -133,7 +135,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         with atomic_output(profiles) as tmp:
             plot_profiles(record, tmp, labels)
     print(f"{task}: {len(cells)} cells, {len(seeds)} episodes each, {len(args.policy)} policies")
-    print(json.dumps(record["summary"]["all"]["scores"], indent=1))
+    print(json.dumps(jsonable(record["summary"]["all"]["scores"]), indent=1))
     return record
 
 

@@ -27,6 +27,12 @@ def _value(result: dict[str, Any], score: str) -> float:
     return np.nan if value is None else float(value)
 
 
+def _light(value: float, vmin: float, vmax: float, cmap: str) -> bool:
+    """Whether ``value`` falls on viridis's light (yellow) end, where text must be dark."""
+    position = (value - vmin) / (vmax - vmin) if vmax > vmin else 1.0
+    return (1.0 - position if cmap.endswith("_r") else position) > 0.6
+
+
 def plot_heat_maps(
     record: dict[str, Any], score: str, path: str | Path, labels: dict[str, str] | None = None
 ) -> None:
@@ -79,8 +85,8 @@ def plot_heat_maps(
                     ha="center",
                     va="center",
                     fontsize=8,
-                    # dark text on the colour map's light end
-                    color="black" if (data[i, j] - vmin) > 0.6 * (vmax - vmin) else "white",
+                    # dark text on the colour map's light end (high values, or low reversed)
+                    color="black" if _light(data[i, j], vmin, vmax, cmap) else "white",
                 )
                 falls = np.mean([res["falls"] / res["episodes"] for res in results])
                 if falls > 0.5:

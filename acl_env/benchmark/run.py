@@ -56,17 +56,23 @@ def cell_result(episodes: Sequence[Episode]) -> dict[str, Any]:
     return result
 
 
+class SettingsMismatch(ValueError):
+    """A record to resume that was made with other settings."""
+
+
 def run_cell(
     policies: Sequence[Path],
     cell_kwargs: dict[str, Any],
     seeds: Sequence[int],
     pool: Executor | None,
     tuned_path: Path = DEFAULT_TUNED_GAITS,
-) -> dict[str, dict[str, Any]]:
-    """Every controller of one cell on ``seeds``: ``{controller: cell_result}``."""
+) -> tuple[dict[str, dict[str, Any]], dict[str, str]]:
+    """Every controller of one cell on ``seeds``: ``{controller: cell_result}``, and each
+    controller's label (what it is, in the reader's words)."""
     controllers, _ = policies_controllers(policies, cell_kwargs, tuned_path)
     results = evaluate(controllers, seeds, workers=1, pool=pool, progress=False)
-    return {name: cell_result(episodes) for name, episodes in results.items()}
+    labels = {c.name: c.title for c in controllers}
+    return {name: cell_result(episodes) for name, episodes in results.items()}, labels
 
 
 def settings(
@@ -99,21 +105,22 @@ def run_benchmark(
     on_cell: Callable[[Cell], None] | None = None,
 ) -> dict[str, Any]:
     """Play every cell of ``grid`` not yet in the record at ``record_path`` (one made with the
-    same :func:`settings`; ``ValueError`` if it was made with others), writing the record after
+    same :func:`settings`; :class:`SettingsMismatch` if it was made with others), writing it after
     each cell; return it. ``on_cell`` is called after each cell (a progress bar)."""
     wanted = settings(task, policies, grid, seeds, tuned_path)
-    record: dict[str, Any] = {"format": FORMAT, "settings": wanted, "cells": {}}
+    record: dict[str, Any] = {"format": FORMAT, "settings": wanted, "labels": {}, "cells": {}}
     if record_path.is_file():
         previous = read_json(record_path)
-        if previous.get("settings") != wanted:
-            raise ValueError(
+        if previous.get("format") != FORMAT or previous.get("settings") != wanted:
+            raise SettingsMismatch(
                 f"{record_path} was made with other settings (task, policies, seeds, grid or "
                 "tuned gaits): give another --json path, or remove it to start again"
             )
         record = previous
     for cell in grid.cells():
         if cell.key not in record["cells"]:
-            controllers = run_cell(policies, grid.env_kwargs(cell), seeds, pool, tuned_path)
+            controllers, labels = run_cell(policies, grid.env_kwargs(cell), seeds, pool, tuned_path)
+            record["labels"].update(labels)
             record["cells"][cell.key] = {
                 "kwargs": cell.kwargs,
                 "held_out": cell.held_out,

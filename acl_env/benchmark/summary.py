@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from acl_env.evaluation.runner import POLICY_PREFIX
+from acl_env.evaluation.baselines import POLICY_PREFIX
 from acl_env.evaluation.statistics import bootstrap_interval, iqm, mean_probability_of_improvement
 
 # Each score and whether more is better.
@@ -38,32 +38,38 @@ def controllers_of(record: dict[str, Any]) -> tuple[list[str], list[str]]:
 
 
 def summarize_benchmark(record: dict[str, Any], held_out_only: bool = False) -> dict[str, Any]:
-    """Per score: each analytic controller's mean over the cells; the policies' grid means,
-    their IQM over seeds with its bootstrap 95 % interval; the best analytic controller per
-    cell, and the probability that a policy seed beats it, averaged over cells, with its
-    interval. ``held_out_only``: only the cells outside the training ranges."""
+    """Per score, over the cells where every controller's value is defined: each analytic
+    controller's mean; the policies' grid means, their IQM over seeds with its bootstrap 95 %
+    interval; the best analytic controller per cell, and the probability that a policy seed
+    beats it, averaged over cells, with its interval. ``held_out_only``: only the cells outside
+    the training ranges."""
     cells = [k for k, c in record["cells"].items() if c["held_out"] or not held_out_only]
     policies, analytic = controllers_of(record)
     out: dict[str, Any] = {"cells": len(cells), "policies": policies, "scores": {}}
     for score, higher in SCORES.items():
         table = {name: np.array(cell_matrix(record, name, score, cells)) for name in analytic}
+        matrix = np.array([cell_matrix(record, p, score, cells) for p in policies])
+        # Slip and energy per metre are undefined where a controller did not climb: every mean
+        # is over the cells where every controller's is defined, so that none looks better for
+        # the cells it failed in (success rates are defined everywhere).
+        stacked = np.array([*table.values(), *matrix])
+        common = np.all(np.isfinite(stacked), axis=0)
         entry: dict[str, Any] = {
-            "analytic": {name: float(np.nanmean(v)) for name, v in table.items()},
+            "cells": int(common.sum()),
+            "analytic": {name: float(np.mean(v[common])) for name, v in table.items()},
         }
         if policies:
-            matrix = np.array([cell_matrix(record, p, score, cells) for p in policies])
-            stacked = np.array(list(table.values()))
-            with np.errstate(all="ignore"):
-                best = np.nanmax(stacked, 0) if higher else np.nanmin(stacked, 0)
-            usable = np.isfinite(best) & np.all(np.isfinite(matrix), axis=0)
-            grid_means = np.nanmean(matrix, axis=1)
+            analytic_table = np.array(list(table.values()))
+            best = analytic_table.max(0) if higher else analytic_table.min(0)
+            usable = common
+            grid_means = matrix[:, common].mean(axis=1)
             low, high = bootstrap_interval(grid_means)
             entry["policies"] = {
                 "per_seed": dict(zip(policies, grid_means.tolist(), strict=True)),
                 "iqm": float(iqm(grid_means)),
                 "ci95": [low, high],
             }
-            entry["best_analytic_mean"] = float(np.nanmean(best))
+            entry["best_analytic_mean"] = float(np.mean(best[common]))
             entry["probability_of_improvement"] = {
                 **mean_probability_of_improvement(matrix[:, usable], best[usable], higher),
                 "cells": int(usable.sum()),

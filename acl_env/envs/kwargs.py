@@ -30,8 +30,8 @@ def env_creator(env_id: str) -> Callable[..., gymnasium.Env]:
     except gymnasium.error.Error:
         known = sorted(k for k in gymnasium.registry if k.startswith("acl_env/"))
         raise ConfigError(f"unknown env id {env_id!r} (registered: {', '.join(known)})") from None
-    if callable(spec.entry_point):
-        return spec.entry_point
+    if callable(spec.entry_point):  # a renamed id (acl_env.renamed.RenamedId): the env's class
+        return getattr(spec.entry_point, "target", spec.entry_point)
     return load_env_creator(spec.entry_point)
 
 

@@ -97,6 +97,20 @@ LABELS = {
     COMPLIANT: "compliant ACL",
     COMPLIANT_SAME_CADENCE: "compliant ACL at the policy's cadence",
 }
+# A policy's controller name when several policies (the training seeds of one recipe) play.
+POLICY_PREFIX = "policy:"
+
+
+def is_policy(name: str) -> bool:
+    """Whether controller ``name`` is a policy: ``policy``, or one of several."""
+    return name == "policy" or name.startswith(POLICY_PREFIX)
+
+
+def policy_name(path: str | Path) -> str:
+    """A policy's controller name among several: ``policy:<folder name>``."""
+    return f"{POLICY_PREFIX}{Path(path).name}"
+
+
 # Run after the policy, at its mean phase rate.
 AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE, COMPLIANT_SAME_CADENCE)
 
@@ -348,7 +362,12 @@ def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[
         for benchmark, base_id in BENCHMARK_BASES.items()
         if base_id == env_id
     ]
+    actuator = env_kwargs.get("actuator_model", env_setting(env_id, {}, "actuator_model", "servo"))
     for benchmark, implied in sorted(candidates, key=lambda item: -len(item[1])):
+        # The actuator model names the task: a servo id with actuator_model="sea" left over
+        # would contradict itself.
+        if env_setting(benchmark, {}, "actuator_model", "servo") != actuator:
+            continue
         if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
             return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
     return env_id, dict(env_kwargs)

@@ -30,13 +30,14 @@ from acl_env.evaluation.baselines import (
     Controller,
     TunedGaitsError,
     build_controllers,
+    is_policy,
     read_policy,
     shown_path,
 )
 from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
-from acl_env.evaluation.runner import POLICY_PREFIX, evaluate, policies_controllers
+from acl_env.evaluation.runner import PolicySetError, evaluate, policies_controllers
 from acl_env.evaluation.statistics import over_seeds
 from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
@@ -221,6 +222,8 @@ def _checked_controllers(
             )
     except TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
+    except PolicySetError as error:
+        parser.error(f"argument --policy: {error}")
     except (ValueError, TypeError, AttributeError) as error:  # a malformed gait override
         parser.error(f"argument --env-kwargs: {error}")
     if args.tuned_key is not None and not any(c.name == "open_loop_tuned" for c in controllers):
@@ -228,11 +231,12 @@ def _checked_controllers(
         parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
     for controller in controllers:
         try:
-            # quiet: the evaluation spells its controllers' ids (Controller.make_env); an error
-            # names the registered task (Controller.task), as the record does
-            env = check_env_kwargs(*controller.task(), quiet=True)
+            # quiet: the evaluation spells its controllers' ids (Controller.make_env); the env
+            # checked is the one that runs, an error names its registered task, as records do
+            env = check_env_kwargs(controller.env_id, controller.env_kwargs, quiet=True)
         except (ValueError, TypeError, ArithmeticError) as error:
-            parser.error(f"argument --env-kwargs: {controller.title}: {error}")
+            message = str(error).replace(controller.env_id, controller.task()[0])
+            parser.error(f"argument --env-kwargs: {controller.title}: {message}")
         try:
             controller.make_policy(env)
         except SpaceMismatchError as error:
@@ -275,7 +279,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         ),
         labels=labels,
     )
-    policies = [name for name in results if name.startswith(POLICY_PREFIX)]
+    policies = [name for name in results if is_policy(name) and name != REFERENCE]
     if policies:  # several policies: the summary over seeds
         document["over_seeds"] = over_seeds(summaries, policies)
     # Every file first, then the printing: a reader that stops reading (| head) loses no file.

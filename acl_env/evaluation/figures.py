@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from acl_env.evaluation.baselines import AT_POLICY_CADENCE, Controller
+from acl_env.evaluation.baselines import AT_POLICY_CADENCE, Controller, is_policy
 from acl_env.evaluation.protocol import Episode, mean_ci95, run_episode
 
 
@@ -45,12 +45,13 @@ def plot_heights(
     import matplotlib.pyplot as plt
 
     labels = labels or {}
-    group = [n for n in results if n == "policy" or n in AT_POLICY_CADENCE]
+    group = [n for n in results if is_policy(n) or n in AT_POLICY_CADENCE]
     zoom = len(group) > 1
     fig, axes = plt.subplots(
         1, 2 if zoom else 1, figsize=(11 if zoom else 7, 4.6), layout="constrained", squeeze=False
     )
-    colours = dict(zip(results, plt.get_cmap("tab10").colors, strict=False))
+    palette = plt.get_cmap("tab10" if len(results) <= 10 else "tab20").colors
+    colours = {name: palette[i % len(palette)] for i, name in enumerate(results)}
     curves = {name: _rise(episodes) for name, episodes in results.items()}
     for name, (t, mean, half) in curves.items():
         ax = axes[0, 0]

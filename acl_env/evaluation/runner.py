@@ -17,18 +17,28 @@ from acl_env.evaluation.baselines import (
     DEFAULT_TUNED_GAITS,
     Controller,
     build_controllers,
+    is_policy,
+    policy_name,
     read_policy,
 )
 from acl_env.evaluation.protocol import Episode, Policy, run_episode
 from acl_env.training import cli
 
 _WORKER_CACHE: dict[str, tuple[gymnasium.Env, Policy]] = {}
+# Envs a process keeps: a benchmark's cells each bring their own controllers, and an env holds
+# about 9 MB; the least recently used is closed beyond this many.
+WORKER_CACHE_SIZE = 16
 
 
 def _env_and_policy(controller: Controller) -> tuple[gymnasium.Env, Policy]:
     """One env and policy per controller and process, reused across its episodes."""
     key = repr(controller)
-    if key not in _WORKER_CACHE:
+    if key in _WORKER_CACHE:
+        _WORKER_CACHE[key] = _WORKER_CACHE.pop(key)  # most recently used last
+    else:
+        while len(_WORKER_CACHE) >= WORKER_CACHE_SIZE:
+            env, _ = _WORKER_CACHE.pop(next(iter(_WORKER_CACHE)))
+            env.close()
         env = controller.make_env()
         _WORKER_CACHE[key] = (env, controller.make_policy(env))
     return _WORKER_CACHE[key]
@@ -106,18 +116,8 @@ def evaluate(
     return {c.name: results[c.name] for c in controllers}
 
 
-# A policy's controller name when several policies (the training seeds of one recipe) play.
-POLICY_PREFIX = "policy:"
-
-
-def is_policy(name: str) -> bool:
-    """Whether controller ``name`` is a policy: ``policy``, or one of several."""
-    return name == "policy" or name.startswith(POLICY_PREFIX)
-
-
-def policy_name(path: str | Path) -> str:
-    """A policy's controller name among several: ``policy:<folder name>``."""
-    return f"{POLICY_PREFIX}{Path(path).name}"
+class PolicySetError(ValueError):
+    """Policies that are not the seeds of one recipe: of other tasks, or of one folder name."""
 
 
 def policies_controllers(
@@ -131,6 +131,13 @@ def policies_controllers(
     """Each policy (named :func:`policy_name`) and the analytic controllers the first is judged
     against (:func:`~acl_env.evaluation.baselines.build_controllers`), under ``overrides``; and
     that build's notes."""
+    names = [policy_name(path) for path in policies]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        raise PolicySetError(
+            f"several policies share a folder name ({', '.join(twice)}): the records name each "
+            "policy by its folder's name, so give each seed a folder of its own name"
+        )
     own: list[Controller] = []
     analytic: list[Controller] = []
     notes: list[str] = []
@@ -140,7 +147,12 @@ def policies_controllers(
             folder, overrides, reward_weights, tuned_path, tuned_key, trust_pickles
         )
         policy = next(c for c in controllers if c.name == "policy")
-        own.append(replace(policy, name=policy_name(path), label=Path(path).name))
+        if own and (policy.env_id, policy.env_kwargs) != (own[0].env_id, own[0].env_kwargs):
+            raise PolicySetError(
+                f"{path} was trained on another task than {policies[0]} (env kwargs "
+                f"{policy.env_kwargs} against {own[0].env_kwargs}): the seeds of one recipe only"
+            )
+        own.append(replace(policy, name=names[index], label=Path(path).name))
         if index == 0:
             analytic, notes = [c for c in controllers if c.name != "policy"], built_notes
     return own + analytic, notes

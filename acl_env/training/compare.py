@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from acl_env.evaluation import format_paired, paired_differences
+from acl_env.evaluation.baselines import POLICY_PREFIX
 from acl_env.evaluation.records import controller_env, controller_summary, read_record
 from acl_env.evaluation.statistics import SEED_METRICS, compare_samples
 from acl_env.io import console_script, write_json
@@ -29,7 +30,17 @@ from acl_env.training import cli
 
 # Env kwargs that set the conditions an episode is played under (acl-evaluate's --env-kwargs and
 # the held-out overrides), rather than the controller: both sides must agree on them.
-CONDITIONS = ("pole_radius", "friction", "kp", "domain_randomization")
+CONDITIONS = (
+    "pole_radius",
+    "friction",
+    "kp",
+    "spring_stiffness",
+    "control_latency",
+    "motor_speed_limit",
+    "actuator_model",
+    "reward_weights",
+    "domain_randomization",
+)
 
 
 def read_controller(path: Path, controller: str) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -45,6 +56,22 @@ def read_controller(path: Path, controller: str) -> tuple[dict[str, Any], dict[s
     env = {"env_id": env_id}
     env.update({key: env_kwargs.get(key) for key in CONDITIONS})
     return summary, env
+
+
+def check_same_conditions(first: Path, second: Path, records: list[dict[str, Any]]) -> None:
+    """``ValueError`` unless two records of several seeds were played on one task, under the
+    same conditions and on the same reset seeds (as their first seeds say)."""
+    envs, seeds = [], []
+    for record in records:
+        name = next(n for n in record["controllers"] if n.startswith(POLICY_PREFIX))
+        env_id, env_kwargs = controller_env(record, name)
+        envs.append({"env_id": env_id, **{k: env_kwargs.get(k) for k in CONDITIONS}})
+        seeds.append(controller_summary(record, name)["seeds"])
+    for key, value in envs[0].items():
+        if envs[1][key] != value:
+            raise ValueError(f"{first} ran with {key}={value!r}, {second} with {envs[1][key]!r}")
+    if seeds[0] != seeds[1]:
+        raise ValueError(f"{first} and {second} were played on other reset seeds")
 
 
 def compare_recipes(
@@ -63,6 +90,11 @@ def compare_recipes(
     return {"labels": list(labels), "files": [str(first), str(second)], "over_seeds": over}
 
 
+def _number(value: float | None, fmt: str) -> str:
+    """``value`` formatted, or ``n/a`` where a record holds none (an undefined metric)."""
+    return "n/a" if value is None or value != value else format(value, fmt)
+
+
 def format_recipes(result: dict[str, Any]) -> str:
     """The recipe comparison as lines of text."""
     a, b = result["labels"]
@@ -70,9 +102,11 @@ def format_recipes(result: dict[str, Any]) -> str:
     for metric, entry in result["over_seeds"].items():
         diff, poi = entry["iqm_difference"], entry["probability_of_improvement"]
         lines.append(
-            f"  {metric}: IQM {entry['iqm'][0]:.4g} vs {entry['iqm'][1]:.4g}, difference "
-            f"{diff['mean']:+.4g} [{diff['ci95'][0]:+.4g}, {diff['ci95'][1]:+.4g}]; "
-            f"P({a} better) {poi['mean']:.2f} [{poi['ci95'][0]:.2f}, {poi['ci95'][1]:.2f}]"
+            f"  {metric}: IQM {_number(entry['iqm'][0], '.4g')} vs "
+            f"{_number(entry['iqm'][1], '.4g')}, difference {_number(diff['mean'], '+.4g')} "
+            f"[{_number(diff['ci95'][0], '+.4g')}, {_number(diff['ci95'][1], '+.4g')}]; "
+            f"P({a} better) {_number(poi['mean'], '.2f')} [{_number(poi['ci95'][0], '.2f')}, "
+            f"{_number(poi['ci95'][1], '.2f')}]"
         )
     return "\n".join(lines)
 
@@ -86,8 +120,16 @@ def compare(
     a, b = (labels or (first.stem, second.stem))[:2]
     if a == b:
         raise ValueError(f"the two labels must differ, got {a!r} twice")
-    recipes = [read_record(path).get("over_seeds") for path in (first, second)]
-    if controller == "policy" and all(recipes):
+    records = [read_record(path) for path in (first, second)]
+    recipes = [record.get("over_seeds") for record in records]
+    if controller == "policy" and any(recipes):
+        if not all(recipes):
+            one = first if recipes[0] else second
+            raise ValueError(
+                f"{one} holds several training seeds and the other one policy: evaluate both "
+                "recipes over their seeds (acl-evaluate --policy SEED0 SEED1 ...)"
+            )
+        check_same_conditions(first, second, records)
         return compare_recipes(first, second, recipes, (a, b))
     (summary_a, env_a), (summary_b, env_b) = (
         read_controller(first, controller),

@@ -1,6 +1,5 @@
-"""Deferred signals and guarded output: Ctrl-C and SIGTERM ask a command to stop at a consistent
-point instead of raising wherever they land, and a closed stdout or stderr (``| head``, a ``tee``
-killed by the same Ctrl-C) never stops it from saving its work."""
+"""Deferred signals: Ctrl-C and SIGTERM ask a command to stop at a consistent point instead of
+raising wherever they land (a closed stdout or stderr is :func:`acl_env.io.guarded_output`'s)."""
 
 from __future__ import annotations
 

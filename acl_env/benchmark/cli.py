@@ -27,6 +27,7 @@ from acl_env.benchmark.summary import summarize_benchmark
 from acl_env.evaluation.baselines import read_policy
 from acl_env.evaluation.cli import policy_folder
 from acl_env.evaluation.runner import PolicySetError, make_pool
+from acl_env.evaluation.statistics import MIN_SEEDS
 from acl_env.io import atomic_output, console_script, jsonable, read_json, write_json
 from acl_env.training import cli
 
@@ -135,6 +136,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         with atomic_output(profiles) as tmp:
             plot_profiles(record, tmp, labels)
     print(f"{task}: {len(cells)} cells, {len(seeds)} episodes each, {len(args.policy)} policies")
+    if 1 < len(args.policy) < MIN_SEEDS:
+        print(f"fewer than {MIN_SEEDS} seeds: the intervals over seeds are too narrow to trust")
     print(json.dumps(jsonable(record["summary"]["all"]["scores"]), indent=1))
     return record
 

@@ -38,7 +38,7 @@ from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
 from acl_env.evaluation.runner import PolicySetError, evaluate, policies_controllers
-from acl_env.evaluation.statistics import over_seeds
+from acl_env.evaluation.statistics import MIN_SEEDS, over_seeds
 from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
 from acl_env.training import cli
@@ -309,7 +309,10 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
 def format_over_seeds(summary: dict[str, Any], labels: dict[str, str]) -> str:
     """The policies over training seeds: IQM [95 % interval], the best analytic controller and
     the probability that a seed beats it."""
-    lines = [f"over {len(next(iter(summary.values()))['per_seed'])} training seeds:"]
+    seeds = len(next(iter(summary.values()))["per_seed"])
+    lines = [f"over {seeds} training seeds:"]
+    if seeds < MIN_SEEDS:
+        lines[0] += f" (fewer than {MIN_SEEDS}: the intervals are too narrow to trust)"
     for metric, entry in summary.items():
         low, high = entry["ci95"]
         line = f"  {metric}: IQM {entry['iqm']:.4g} [{low:.4g}, {high:.4g}]"

@@ -17,6 +17,9 @@ import numpy as np
 from scipy import stats
 
 CONFIDENCE = 0.95
+# Fewer training seeds than this: bootstrap intervals too narrow to trust (Agarwal et al. 2021
+# ask for at least five runs); the commands say so.
+MIN_SEEDS = 5
 RESAMPLES = 5000
 
 

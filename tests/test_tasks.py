@@ -95,3 +95,24 @@ def test_the_paper_default_gait_env_stays_registered() -> None:
     env = gym.make(acl_env.ACL_CLIMB_ID).unwrapped
     assert env.residual_scale == pytest.approx(0.2) and env.phase_rate_range is None
     assert env.squeeze == pytest.approx(0.008)
+
+
+@pytest.mark.parametrize("old_id", sorted(acl_env.RENAMED_IDS))
+def test_an_old_id_is_its_new_id_step_for_step(old_id: str) -> None:
+    """A renamed id makes the same env as its new name: the same observations and rewards,
+    bit for bit, under the same seed and actions (its deprecation note aside)."""
+    import warnings
+
+    new_id = acl_env.RENAMED_IDS[old_id]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        old = gym.make(old_id, cycles_per_episode=1)
+    new = gym.make(new_id, cycles_per_episode=1)
+    assert old.unwrapped.spec.kwargs == new.unwrapped.spec.kwargs
+    (obs_a, _), (obs_b, _) = old.reset(seed=3), new.reset(seed=3)
+    assert np.array_equal(obs_a, obs_b)
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        action = rng.uniform(-1.0, 1.0, size=old.action_space.shape).astype(np.float32)
+        a, b = old.step(action), new.step(action)
+        assert np.array_equal(a[0], b[0]) and a[1:4] == b[1:4]

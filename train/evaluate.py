@@ -1,4 +1,4 @@
-"""Evaluate a policy against the analytic controllers from a clone: ``python train/evaluate.py``.
+"""Evaluate a policy from a clone, once installed: ``python train/evaluate.py [options]``.
 
 The same command as ``acl-evaluate`` (``--help`` lists the options); the work is the library's
 (:mod:`acl_env.evaluation`).

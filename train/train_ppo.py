@@ -1,4 +1,4 @@
-"""Train residual PPO on an acl_env task from a clone: ``python train/train_ppo.py [options]``.
+"""Train residual PPO from a clone, once installed: ``python train/train_ppo.py [options]``.
 
 The same command as ``acl-train`` (``--help`` lists the options); the recipe is the package's
 ``acl_env/data/ppo.yml`` and the work is the library's (:mod:`acl_env.training`).

@@ -84,6 +84,22 @@ RECORDS: dict[str, Record] = {
         f"python benchmarks/policy_behaviour.py --policy {COMPLIANT_POLICY} --episodes 20"
         " --json docs/policy_behaviour.json --plot docs/policy_behaviour.png",
     ),
+    "benchmark_sea": Record(
+        tuple(
+            f"docs/benchmark_sea{suffix}"
+            for suffix in (
+                ".json",
+                "_success_rate.png",
+                "_climb_per_gait_cycle_m.png",
+                "_slip_per_m.png",
+                "_energy_per_m.png",
+                "_profiles.png",
+            )
+        ),
+        "acl-benchmark --policy acl_climb_sea_ppo"
+        " experiments/training_seeds/acl_climb_sea_ppo_seed1"
+        " --json docs/benchmark_sea.json --plots docs/benchmark_sea.png",
+    ),
     "eval_noroll_compliant": Record(
         ("docs/eval_noroll_compliant.json",),
         f"acl-evaluate --policy {NOROLL_COMPLIANT_POLICY} --json docs/eval_noroll_compliant.json"

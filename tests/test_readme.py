@@ -163,3 +163,25 @@ def test_gitignore_covers_what_the_readme_commands_write() -> None:
         text=True,
     )
     assert set(proc.stdout.split()) == written
+
+
+def test_readme_benchmark_sentence_is_the_record() -> None:
+    """The grid's success rates, as the README states them (docs/benchmark_sea.json)."""
+    import numpy as np
+
+    from acl_env.io import read_json
+
+    record = read_json(ROOT / "docs" / "benchmark_sea.json")
+    cells = record["cells"].values()
+
+    def rate(name: str) -> str:
+        return f"{np.mean([c['controllers'][name]['success_rate'] for c in cells]):.2f}"
+
+    text = " ".join((ROOT / "README.md").read_text().split())
+    seeds = {rate("policy:acl_climb_sea_ppo"), rate("policy:acl_climb_sea_ppo_seed1")}
+    assert len(seeds) == 1, seeds  # "seeds 0 and 1 alike"
+    assert f"holds the pole in {seeds.pop()} of the episodes" in text
+    assert f"the tuned gait in {rate('open_loop_tuned')}" in text
+    assert f"the paper's untuned gait in {rate('open_loop_acl')}" in text
+    assert f"the rolling helix in {rate('open_loop_rolling_helix')}" in text
+    assert f"{len(record['cells'])}-cell grid" in text

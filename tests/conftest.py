@@ -65,3 +65,25 @@ def installed_wheel(clean_source: Path, tmp_path_factory: pytest.TempPathFactory
     install = ["install", "--no-deps", "-q", "-t", str(target), str(wheel)]
     subprocess.run([sys.executable, "-m", "pip", *install], check=True)
     return target
+
+
+DOCS_EXTRA = 'the docs extra is not installed (pip install -e ".[docs]")'
+
+
+@pytest.fixture(scope="session")
+def built_site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The documentation site, built once per session with ``mkdocs build --strict`` (a warning
+    fails it); skipped without the docs extra."""
+    for module in ("mkdocs", "material", "mkdocstrings", "mkdocstrings_handlers.python"):
+        pytest.importorskip(module, reason=DOCS_EXTRA)
+    site_dir = tmp_path_factory.mktemp("site")
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site_dir)],
+        cwd=Path(__file__).resolve().parents[1],
+        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-5000:]
+    return site_dir

@@ -5,32 +5,17 @@ numbers of the generated records (docs/hooks/results.py), not retyped ones."""
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-SKIP = 'the docs extra is not installed (pip install -e ".[docs]")'
 
 
 @pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    for module in ("mkdocs", "material", "mkdocstrings", "mkdocstrings_handlers.python"):
-        pytest.importorskip(module, reason=SKIP)
-    site_dir = tmp_path_factory.mktemp("site")
-    proc = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site_dir)],
-        cwd=ROOT,
-        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-5000:]
-    return site_dir
+def site(built_site: Path) -> Path:
+    """The site as ``mkdocs build --strict`` builds it (conftest.built_site)."""
+    return built_site
 
 
 def test_mkdocs_build_strict(site: Path) -> None:

@@ -31,7 +31,6 @@ from typing import Any
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-SKIP_DOCS = 'the docs extra is not installed (pip install -e ".[docs]")'
 WIDTH, HEIGHT = 1280, 900  # the browser's viewport (CSS px)
 # The pages a reader opens first, and those that carry the paper's equations.
 PAGES = ["index", "results", "grip", "gait", "estimation"]
@@ -295,21 +294,11 @@ def chromium() -> str:
 
 
 @pytest.fixture(scope="module")
-def served_site(chromium: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """The site, built with ``mkdocs build --strict``, at an http://127.0.0.1 address (file://
-    would not do: Chromium refuses web fonts and workers to file:// pages)."""
-    for module in ("mkdocs", "material", "mkdocstrings", "mkdocstrings_handlers.python"):
-        pytest.importorskip(module, reason=SKIP_DOCS)
-    site_dir = tmp_path_factory.mktemp("site")
-    proc = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site_dir)],
-        cwd=ROOT,
-        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-5000:]
+def served_site(chromium: str, built_site: Path) -> Iterator[str]:
+    """The site, built with ``mkdocs build --strict`` (conftest.built_site), at an
+    http://127.0.0.1 address (file:// would not do: Chromium refuses web fonts and workers to
+    file:// pages)."""
+    site_dir = built_site
     handler = functools.partial(_QuietHandler, directory=str(site_dir))
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
     thread = threading.Thread(target=server.serve_forever, daemon=True)

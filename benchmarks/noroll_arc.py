@@ -4,7 +4,7 @@
 [--env-kwargs KEY:VALUE ...]`` (``--out`` is ``--plot``; default ``runs/noroll_arc.png``)
 
 Controllers, episode ``i`` of each resetting with seed ``seed + i``
-(:func:`acl_env.training.evaluate.run_controllers`, :func:`acl_env.evaluation.run_episode`):
+(:func:`acl_env.evaluation.runner.run_controllers`, :func:`acl_env.evaluation.run_episode`):
 
 * ``open_loop_noroll``: ``acl_env/ACLClimbNoRollBase-v3`` with a zero action (the policy's env
   and its non-training kwargs when ``--policy`` is given, its gait included, so both run under the

@@ -751,26 +751,6 @@ def test_every_registered_task_has_its_baselines() -> None:
     assert not baselines.is_non_rolling("acl_env/ACLClimbNoRoll-v3", {"gait_kwargs": None})
 
 
-def test_the_old_module_warns_and_re_exports() -> None:
-    """acl_env.training.evaluate still serves its names, the same objects, with a warning."""
-    import importlib
-    import sys as system
-
-    system.modules.pop("acl_env.training.evaluate", None)
-    with pytest.warns(DeprecationWarning, match="acl_env.evaluation"):
-        old = importlib.import_module("acl_env.training.evaluate")
-    assert old.build_controllers is baselines.build_controllers
-    assert old.run_controllers is runner.run_controllers and old.run is evaluate_cli.run
-    assert old.DEFAULT_POLICY == baselines.DEFAULT_POLICY
-    assert old.TUNED_KEYS_BY_ENV == {
-        "acl_env/ACLClimbNoRollBase-v2": "acl_noroll_v2",
-        "acl_env/ACLClimbNoRoll-v5": "acl_noroll_sea",
-        "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
-    }
-    for name in old.__all__:
-        assert hasattr(old, name), name
-
-
 def test_the_evaluation_package_imports_without_torch_yaml_or_sb3() -> None:
     """Only loading a policy needs the train extra: the package and its command line import
     without it."""

@@ -26,7 +26,7 @@ from acl_env.constants import (
     SCENE_FILE,
     TRACK_CAMERA,
 )
-from acl_env.envs import arguments, modulation, termination
+from acl_env.envs import modulation, termination
 from acl_env.envs.arguments import GAITS, check_arguments, check_camera, gait_kwargs_at, squeeze_at
 from acl_env.envs.contacts import ContactSampler
 from acl_env.envs.grip import GRIP_RANGE, GripController
@@ -490,14 +490,6 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     def _get_reset_info(self) -> dict[str, Any]:
         com, phase = float(self._com_view[2]), self._keyframe / self.steps_per_cycle
         return {"com_height": com, "phase": phase}
-
-
-def __getattr__(name: str) -> Any:
-    """The argument ranges (``N_JOINTS_RANGE``, ..., ``TIMESTEP_RANGE``) moved to
-    ``envs/arguments.py``; they stay importable from here."""
-    if name in arguments.__all__:
-        return getattr(arguments, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = ["DEFAULT_RANDOMIZATION", "DEFAULT_REWARD_WEIGHTS", "ACLClimbEnv"]

@@ -2,7 +2,7 @@
 
 ``python experiments/noroll_v3/policy_robustness.py [--policy DIR] [--episodes 5] [--held-out |
 --pole-radii R ...] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--tuned-gaits FILE]
-[--tuned-key KEY]`` evaluates the controllers of ``acl-evaluate`` (:mod:`acl_env.training.evaluate`:
+[--tuned-key KEY]`` evaluates the controllers of ``acl-evaluate`` (:mod:`acl_env.evaluation`:
 the policy, open-loop ACL, at the policy's cadence, rolling helix, tuned gait from
 ``--tuned-gaits``, entry ``--tuned-key``; same seeds for all) at the corners and centre of the
 training ranges of pole radius and friction, with ``--held-out`` under conditions outside the

@@ -4,7 +4,7 @@
 [--episodes 5] [--env-kwargs KEY:VALUE ...] [--json PATH] [--plot PATH] [--workers 2]`` plays the
 registered non-rolling gait (``acl_env/ACLClimbNoRoll-v3``) open loop, a zero action, with each
 ``squeeze_slope`` on each pole, the same reset seeds everywhere
-(:func:`acl_env.training.evaluate.run_controllers`). ``squeeze_slope`` k commands the helix ``k *
+(:func:`acl_env.evaluation.runner.run_controllers`). ``squeeze_slope`` k commands the helix ``k *
 (0.075 - pole radius)`` looser than the squeeze tuned on the default 0.075 m pole (Eq. 1's r;
 ``ACLClimbEnv.squeeze_at``). Prints, per slope and pole, the climb per gait cycle of the episodes
 that held the pole for both cycles, and how many fell or rolled past ``roll_limit``; then each

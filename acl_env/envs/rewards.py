@@ -53,9 +53,10 @@ def energy_term(step: StepMeasures) -> float:
 
 def action_rate_term(step: StepMeasures) -> float:
     """Penalty: the action's squared change since the last step, negated. A residual that flips
-    between the ends of its range at every step reads ~1-4 (benchmarks/action_smoothing.py: such
-    flipping climbs in simulation through the soft contact's creep, and shrinks under a harder
-    contact); one smooth over the 220-step gait cycle reads ~1e-3 or less."""
+    between the ends of its range at every step reads ~1-4
+    (experiments/noroll_climb_gait/action_smoothing.py: such flipping climbs in simulation
+    through the soft contact's creep, and shrinks under a harder contact); one smooth over the
+    220-step gait cycle reads ~1e-3 or less."""
     return -step.action_rate
 
 

@@ -27,7 +27,7 @@ Per-episode metrics (the JSON names are an interface: other tools read them), wi
 
 ``action_change`` tells a residual smooth over the gait cycle (near 0; an open loop reads 0) from
 one that flips at the control rate (flipping between the ends of the range reads 2), which can
-climb on the soft contact's creep (``benchmarks/action_smoothing.py``).
+climb on the soft contact's creep (``experiments/noroll_climb_gait/action_smoothing.py``).
 
 ``touched_arc_deg``: after every step, each active snake-pole contact is expressed in the frame of
 its module's link (x along the module's axis) and binned by its angle about that axis into

@@ -17,6 +17,8 @@ MODULE_MASS = 0.205  # kg
 PEAK_TORQUE = 7.0  # N m
 JOINT_LIMIT = 0.5 * math.pi  # rad, +-90 deg
 DEFAULT_N_JOINTS = 20
+# One gait cycle: 220 keyframes, one per env step of 0.1 s (the paper's gait tables).
+DEFAULT_STEPS_PER_CYCLE = 220
 
 # -- the scene --------------------------------------------------------------------------------
 DEFAULT_POLE_RADIUS = 0.075  # m

@@ -18,7 +18,9 @@ from functools import cached_property
 import numpy as np
 
 from acl_env.constants import (
+    DEFAULT_N_JOINTS,
     DEFAULT_POLE_RADIUS,
+    DEFAULT_STEPS_PER_CYCLE,
     JOINT_LIMIT,
     SEA_MODULE_DIAMETER,
     SEA_MODULE_LENGTH,
@@ -203,12 +205,12 @@ class RollingHelixGait(Gait):
 
     def __init__(
         self,
-        n_joints: int = 20,
+        n_joints: int = DEFAULT_N_JOINTS,
         module_length: float = SEA_MODULE_LENGTH,
         radius: float = DEFAULT_RADIUS,
         pitch: float = DEFAULT_PITCH,
         rolls_per_cycle: float = 1.0,
-        steps_per_cycle: int = 220,
+        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
         module_diameter: float = SEA_MODULE_DIAMETER,
         rock_amp: float = 0.0,
         rock_phase: float = 0.0,
@@ -270,7 +272,7 @@ class ACLGait(Gait):
 
     def __init__(
         self,
-        n_joints: int = 20,
+        n_joints: int = DEFAULT_N_JOINTS,
         module_length: float = SEA_MODULE_LENGTH,
         radius: float = DEFAULT_RADIUS,
         pitch: float = DEFAULT_PITCH,
@@ -279,7 +281,7 @@ class ACLGait(Gait):
         amp_radial: float = 0.0,
         radial_freq: float = 2.0,
         rolls_per_cycle: float = 1.0,
-        steps_per_cycle: int = 220,
+        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
         module_diameter: float = SEA_MODULE_DIAMETER,
         n_samples: int = 300,
         rock_amp: float = 0.0,

@@ -28,6 +28,7 @@ import optuna
 import yaml
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, shipped, tuned_gaits
+from acl_env.constants import DEFAULT_STEPS_PER_CYCLE
 from acl_env.envs.arguments import CYCLES_PER_EPISODE_RANGE, STEPS_PER_CYCLE_RANGE
 from acl_env.gait.gaits import DEFAULT_POLE_RADIUS
 from acl_env.io import atomic_write, console_script, jsonable
@@ -133,7 +134,9 @@ def make_parser() -> ArgumentParser:
     parser.add_argument("--study-name", default=None, help="default: the key")
     parser.add_argument("--key", default=None, help="entry in --output (acl / acl_noroll)")
     parser.add_argument("--seeds", type=int_in(*SEED_RANGE), nargs="+", default=list(DEFAULT_SEEDS))
-    parser.add_argument("--steps-per-cycle", type=int_in(*STEPS_PER_CYCLE_RANGE), default=220)
+    parser.add_argument(
+        "--steps-per-cycle", type=int_in(*STEPS_PER_CYCLE_RANGE), default=DEFAULT_STEPS_PER_CYCLE
+    )
     parser.add_argument(
         "--cycles",
         type=int_in(*CYCLES_PER_EPISODE_RANGE),

@@ -24,6 +24,7 @@ import gymnasium
 import optuna
 
 from acl_env import ACL_CLIMB_ID
+from acl_env.constants import DEFAULT_STEPS_PER_CYCLE
 from acl_env.evaluation import METRICS, mean_ci95, run_episode, zero_policy
 from acl_env.tuning.space import (
     DEFAULT_PARAMS,
@@ -53,7 +54,7 @@ class TuneSettings:
     reward_weights: dict[str, float] = field(default_factory=dict)
     rolls_per_cycle: int = 1
     seeds: tuple[int, ...] = DEFAULT_SEEDS
-    steps_per_cycle: int = 220
+    steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE
     cycles_per_episode: int = 2
     max_clipped: float = 0.1
     max_touched_arc_deg: float | None = None

@@ -28,9 +28,9 @@ from acl_env.tuning import objective
 from acl_env.tuning.cli import main
 from acl_env.tuning.frontier import pareto_front, policy_point
 from acl_env.tuning.objective import OBJECTIVES, TuneSettings
+from acl_env.tuning.remeasure import tuned_entry, validate
 from acl_env.tuning.space import DEFAULT_PARAMS, SEARCH_SPACE, ParamRange, UsageError
 from acl_env.tuning.study import FINISHED, open_storage
-from acl_env.tuning.validation import tuned_entry, validate
 
 ROOT = Path(__file__).resolve().parents[1]
 # 20-step cycles, one cycle per episode: a trial takes a fraction of a second.

@@ -4,7 +4,7 @@ open-loop gait.
 Each trial plays a candidate gait (squeeze and ``gait_kwargs``) open loop on a few seeds
 (:mod:`~acl_env.tuning.objective`), within a search space (:mod:`~acl_env.tuning.space`), in a
 shared, resumable study (:mod:`~acl_env.tuning.study`); the best few trials are measured again on
-new seeds (:mod:`~acl_env.tuning.validation`) and the frontier of climb and slip against energy is
+new seeds (:mod:`~acl_env.tuning.remeasure`) and the frontier of climb and slip against energy is
 drawn (:mod:`~acl_env.tuning.frontier`). The command line (:mod:`~acl_env.tuning.cli`) writes the
 tuned gait as an entry of a tuned-gaits file, whose format is documented in
 :mod:`acl_env.tuned_gaits`.
@@ -37,6 +37,7 @@ from acl_env.tuning.objective import (
     rollout_all,
     suggest_params,
 )
+from acl_env.tuning.remeasure import tuned_entry, validate, validation_seeds
 from acl_env.tuning.space import (
     CONDITIONS,
     DEFAULT_PARAMS,
@@ -56,7 +57,6 @@ from acl_env.tuning.study import (
     run_worker,
     storage_url,
 )
-from acl_env.tuning.validation import tuned_entry, validate, validation_seeds
 
 __all__ = [
     "CONDITIONS",

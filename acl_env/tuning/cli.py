@@ -46,6 +46,7 @@ from acl_env.tuning.checks import (
 )
 from acl_env.tuning.frontier import policy_point, render_frontier
 from acl_env.tuning.objective import DEFAULT_SEEDS, OBJECTIVES, TuneSettings
+from acl_env.tuning.remeasure import tuned_entry, validate
 from acl_env.tuning.space import (
     CONDITIONS,
     GRIP_SPACE,
@@ -62,7 +63,6 @@ from acl_env.tuning.study import (
     run_study,
     sqlite_path,
 )
-from acl_env.tuning.validation import tuned_entry, validate
 
 DEFAULT_CONFIG = shipped.recipe_path()
 DEFAULT_OUTPUT = Path("runs/tuned_gaits.json")

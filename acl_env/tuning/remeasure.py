@@ -1,4 +1,4 @@
-"""Re-validation of the best trials, and the tuned-gaits entry of the chosen one.
+"""Re-measuring the best trials on new seeds, and the tuned-gaits entry of the chosen one.
 
 With a few seeds per trial the study's best is partly luck, and good gaits sit near a cliff where
 the grip gives way; so the best few trials (and the default gait) are measured again on new seeds,

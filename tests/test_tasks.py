@@ -104,10 +104,10 @@ def test_an_old_id_is_its_new_id_step_for_step(old_id: str) -> None:
     import warnings
 
     new_id = acl_env.RENAMED_IDS[old_id]
-    with warnings.catch_warnings():
+    with warnings.catch_warnings():  # the old id's note, and Gymnasium's for an older version
         warnings.simplefilter("ignore", DeprecationWarning)
         old = gym.make(old_id, cycles_per_episode=1)
-    new = gym.make(new_id, cycles_per_episode=1)
+        new = gym.make(new_id, cycles_per_episode=1)
     assert old.unwrapped.spec.kwargs == new.unwrapped.spec.kwargs
     (obs_a, _), (obs_b, _) = old.reset(seed=3), new.reset(seed=3)
     assert np.array_equal(obs_a, obs_b)

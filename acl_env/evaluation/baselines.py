@@ -127,7 +127,7 @@ class Controller:
     policy_dir: str | None = None
     phase_rate: float | None = None  # open loop at this many keyframes per step
     trust_pickles: bool = False  # an SB3 policy_dir's pickles may be loaded (they can run code)
-    label: str = ""  # what it is, in the reader's words (tables, plots, records)
+    label: str = ""  # what it is, in the reader's words, where LABELS' word for its name is not
     # The registered id and the keyword arguments over its defaults that records and errors
     # name (a policy's task: its own id, not the base id it is spelled on); empty: derived.
     task_id: str = ""
@@ -135,8 +135,9 @@ class Controller:
 
     @property
     def title(self) -> str:
-        """:attr:`label`, or the name where there is none."""
-        return self.label or self.name
+        """What it is, in the reader's words: :attr:`label`, else :data:`LABELS`' word for its
+        name, else the name."""
+        return self.label or LABELS.get(self.name, self.name)
 
     def task(self) -> tuple[str, dict[str, Any]]:
         """The registered id and keyword arguments this controller's env is, as records and
@@ -421,7 +422,6 @@ def build_controllers(
                 base,
                 str(folder.path),
                 trust_pickles=trust_pickles,
-                label=LABELS["policy"],
                 task_id=current_id(folder.env_id),
                 task_kwargs=task_kwargs,
             )
@@ -430,7 +430,7 @@ def build_controllers(
             # The registered gait of the policy's env (ACLClimbNoRollBase-v3: the non-rolling one),
             # without any reshaping of it the policy was trained on.
             acl_id = policy_id
-    acl_label = LABELS["open_loop_acl"] if acl_id == ACL_CLIMB_ID else "the task's gait"
+    acl_label = "" if acl_id == ACL_CLIMB_ID else "the task's gait"  # else LABELS' word
     controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs, label=acl_label))
     sets_cadence = (
         folder is not None and env_setting(policy_id, open_loop, "phase_rate_range") is not None
@@ -439,20 +439,11 @@ def build_controllers(
         if sets_cadence:
             # The policy's own base gait (reshaped or not) at the policy's cadence: what the
             # policy adds beyond running its gait faster.
-            same = Controller(
-                SAME_CADENCE, policy_id, open_loop, phase_rate=1.0, label=LABELS[SAME_CADENCE]
-            )
+            same = Controller(SAME_CADENCE, policy_id, open_loop, phase_rate=1.0)
             controllers.append(same)
         else:
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
-    controllers.append(
-        Controller(
-            "open_loop_rolling_helix",
-            ROLLING_HELIX_CLIMB_ID,
-            other_gait,
-            label=LABELS["open_loop_rolling_helix"],
-        )
-    )
+    controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
     weights = base.get("reward_weights")
     if tuned_key is None and env_setting(acl_id, acl_kwargs, "actuator_model") == "sea":
@@ -470,9 +461,7 @@ def build_controllers(
         if on_tuned:
             notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
         else:  # the policy's own gait, zero action: what the residual adds to it
-            controllers.append(
-                Controller(POLICY_GAIT, policy_id, open_loop, label=LABELS[POLICY_GAIT])
-            )
+            controllers.append(Controller(POLICY_GAIT, policy_id, open_loop))
     if tuned is None:
         notes.append(f"open_loop_tuned: skipped, {note}")
     else:
@@ -484,9 +473,7 @@ def build_controllers(
         kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
         if env_setting(tuned_id, {}, "tuned_gait") is not None:
             kwargs["tuned_gait"] = None  # the entry's gait, not the one tuned_id registers
-        controllers.append(
-            Controller("open_loop_tuned", tuned_id, kwargs, label=LABELS["open_loop_tuned"])
-        )
+        controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
         notes.append(f"open_loop_tuned: {note}")
         if sets_cadence:
             if on_tuned:
@@ -495,15 +482,7 @@ def build_controllers(
                     "plays it"
                 )
             else:  # the best open loop at the policy's cadence
-                controllers.append(
-                    Controller(
-                        TUNED_SAME_CADENCE,
-                        tuned_id,
-                        kwargs,
-                        phase_rate=1.0,
-                        label=LABELS[TUNED_SAME_CADENCE],
-                    )
-                )
+                controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))
         controllers += _compliant(tuned_path, tuned_key, tuned_id, kwargs, sets_cadence, notes)
     return controllers, notes
 
@@ -530,15 +509,7 @@ def _compliant(
         return []
     trials = tuned_gaits.entry(key, tuned_path).get("trials", "?")
     notes.append(f"{COMPLIANT}: the grip {key!r}, best of {trials} trials")
-    out = [Controller(COMPLIANT, env_id, {**kwargs, **grip}, label=LABELS[COMPLIANT])]
+    out = [Controller(COMPLIANT, env_id, {**kwargs, **grip})]
     if sets_cadence:
-        out.append(
-            Controller(
-                COMPLIANT_SAME_CADENCE,
-                env_id,
-                {**kwargs, **grip},
-                phase_rate=1.0,
-                label=LABELS[COMPLIANT_SAME_CADENCE],
-            )
-        )
+        out.append(Controller(COMPLIANT_SAME_CADENCE, env_id, {**kwargs, **grip}, phase_rate=1.0))
     return out

@@ -13,7 +13,7 @@ A pretrained policy folder holds two files (format ``acl_env.policy/1``):
 
 The deterministic action is SB3's ``PPO.predict(VecNormalize.normalize_obs(obs),
 deterministic=True)``: the observation normalised in float64 and rounded to float32, the MLP in
-float32, the action head's mean clipped to the action bounds. ``acl_env.training.export`` writes
+float32, the action head's mean clipped to the action bounds. ``acl_env.evaluation.export`` writes
 such a folder from an SB3 run folder.
 """
 

@@ -15,9 +15,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from acl_env import io
-from acl_env.training import cli
-from acl_env.training.cli import add_trust_pickles
+from acl_env import cli, io
+from acl_env.cli import add_trust_pickles
 
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 RUNS = Path("runs")  # where a script writes what it is not told where to write (ignored by git)
@@ -93,7 +92,7 @@ def parent_parser(
 
 def make_parser(doc: str | None, prog: str | None = None, **common: Any) -> cli.ArgumentParser:
     """A script's parser: its docstring's first line as description, one-line errors
-    (:class:`acl_env.training.cli.ArgumentParser`) and the :func:`parent_parser` options
+    (:class:`acl_env.cli.ArgumentParser`) and the :func:`parent_parser` options
     ``common`` asks for."""
     description = (doc or "").strip().splitlines()[0] if doc else None
     return cli.ArgumentParser(prog=prog, description=description, parents=[parent_parser(**common)])

@@ -26,9 +26,8 @@ import numpy as np
 from tqdm import tqdm
 
 import acl_env  # noqa: F401  (registers the environments)
-from acl_env import tuned_gaits
+from acl_env import cli, tuned_gaits
 from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_outputs
-from acl_env.training import cli
 
 BINS = 8  # eighths of the gait cycle
 GAIN_BANDS = (0.0, 5e-5, 1e-4, 2e-4, 5e-4)  # m/(N s)

@@ -33,7 +33,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import gymnasium
 import numpy as np
 
-from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, cli
 from acl_env.evaluation import Episode
 from acl_env.evaluation.baselines import (
     DEFAULT_TUNED_GAITS,
@@ -51,7 +51,6 @@ from acl_env.scripts import (
     use_agg,
     write_output,
 )
-from acl_env.training import cli
 from acl_env.training.policy import read_policy_folder
 
 ARC_TARGET_DEG = 90.0  # the non-rolling task's target: at most 90 deg on every module and episode

@@ -14,10 +14,9 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, cli
 from acl_env.evaluation import run_episode, zero_policy
 from acl_env.scripts import make_parser, write_output
-from acl_env.training import cli
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (1 roll/cycle)": (ACL_CLIMB_ID, {}),

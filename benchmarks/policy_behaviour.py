@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import shipped
+from acl_env import cli, shipped
 from acl_env.envs.grip import GRIP_RANGE
 from acl_env.envs.observations import env_observation_names
 from acl_env.evaluation import baselines
@@ -36,7 +36,6 @@ from acl_env.evaluation.protocol import (
     summarize,
 )
 from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_outputs
-from acl_env.training import cli
 
 BINS = 8  # eighths of the gait cycle
 # Ablations: the policy with the action entries whose names start so held at zero

@@ -19,11 +19,10 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, ROLLING_HELIX_CLIMB_ID, tuned_gaits
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, ROLLING_HELIX_CLIMB_ID, cli, tuned_gaits
 from acl_env.evaluation import run_episode, zero_policy
 from acl_env.evaluation.protocol import PAIRED_METRICS, mean_ci95, summarize
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
-from acl_env.training import cli
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (paper)": (ACL_CLIMB_ID, {}),

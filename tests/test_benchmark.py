@@ -187,7 +187,7 @@ def test_acl_evaluate_and_acl_compare_over_training_seeds(
     """Several policies of one recipe: each plays beside the analytic controllers, the record
     holds the summary over seeds, and acl-compare pairs two such records as recipes."""
     from acl_env.evaluation.cli import main as evaluate_main
-    from acl_env.training.compare import main as compare_main
+    from acl_env.evaluation.compare import main as compare_main
 
     argv = ["--policy", *map(str, two_policies), "--episodes", "2", "--workers", "1"]
     argv += ["--env-kwargs", "cycles_per_episode:1", "--no-progress-bar"]

@@ -22,7 +22,8 @@ from test_trust import crafted_folder  # an SB3 folder whose pickles create a ma
 
 from acl_env import ACL_CLIMB_ID, shipped
 from acl_env.evaluation import cli as evaluate_cli
-from acl_env.training import compare, curves, export, runs, trainer
+from acl_env.evaluation import compare, export
+from acl_env.training import curves, runs, trainer
 
 ROOT = Path(__file__).resolve().parents[1]
 SB3 = ROOT / "experiments" / "noroll_v3" / "noroll_v3_seed1"

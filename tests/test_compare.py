@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from acl_env.evaluation import PAIRED_METRICS
-from acl_env.training.compare import compare, main
+from acl_env.evaluation.compare import compare, main
 
 ENV = "acl_env/ACLClimbNoRoll-v3"
 

@@ -21,11 +21,11 @@ COMMANDS = {
     "acl-benchmark": [PY, "-m", "acl_env.benchmark.cli"],
     "acl-train": [PY, "-m", "acl_env.training.trainer"],
     "acl-tune-gait": [PY, "-m", "acl_env.tuning"],
-    "acl-compare": [PY, "-c", "from acl_env.training.compare import run; run()"],
+    "acl-compare": [PY, "-c", "from acl_env.evaluation.compare import run; run()"],
     "acl-plot-curves": [PY, "-m", "acl_env.training.curves"],
     "acl-gait-plot": [PY, "-m", "acl_env.gait"],
     "python -m acl_env": [PY, "-m", "acl_env"],
-    "export": [PY, "-m", "acl_env.training.export"],
+    "export": [PY, "-m", "acl_env.evaluation.export"],
     "train/train_ppo.py": [PY, str(ROOT / "train" / "train_ppo.py")],
     "train/evaluate.py": [PY, str(ROOT / "train" / "evaluate.py")],
 }

@@ -1,5 +1,5 @@
 """Pretrained policies (:mod:`acl_env.pretrained`): pickle-free files, numpy alone, and the same
-deterministic actions as the SB3 policy they were exported from (:mod:`acl_env.training.export`).
+deterministic actions as the SB3 policy they were exported from (:mod:`acl_env.evaluation.export`).
 
 The shipped policies' SB3 files are not shipped; the tests that compare against them take them
 from the git history (skipped where there is none, e.g. in a shallow clone or an sdist).
@@ -20,9 +20,8 @@ import pytest
 
 import acl_env
 from acl_env import pretrained, shipped
-from acl_env.evaluation import baselines, records
+from acl_env.evaluation import baselines, export, records
 from acl_env.evaluation import cli as evaluate_cli
-from acl_env.training import export
 
 ROOT = Path(__file__).resolve().parents[1]
 SB3_FILES = ("model.zip", "vecnormalize.pkl", "config.yml", "args.json", "summary.json")

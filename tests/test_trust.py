@@ -25,8 +25,9 @@ import yaml
 
 from acl_env import ACL_CLIMB_ID
 from acl_env.evaluation import cli as evaluate_cli
+from acl_env.evaluation import export
 from acl_env.io import atomic_output, atomic_write, check_output
-from acl_env.training import config, export, runs, trainer
+from acl_env.training import config, runs, trainer
 from acl_env.training.policy import load_policy, read_sb3_folder
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -346,7 +347,7 @@ def test_check_output_formats_a_template_or_refuses_it(tmp_path: Path) -> None:
 
 def test_compare_writes_through_no_symlink(tmp_path: Path) -> None:
     """acl-compare --json onto a symlink: the link is replaced, its target untouched."""
-    from acl_env.training import compare
+    from acl_env.evaluation import compare
 
     target = tmp_path / "elsewhere.json"
     target.write_text("theirs")

@@ -19,7 +19,7 @@ from typing import Any
 
 from tqdm import tqdm
 
-from acl_env import current_id, shipped
+from acl_env import cli, current_id, shipped
 from acl_env.benchmark.figures import TITLES, plot_heat_maps, plot_profiles
 from acl_env.benchmark.grid import grid_for
 from acl_env.benchmark.run import SettingsMismatch, run_benchmark
@@ -29,7 +29,6 @@ from acl_env.evaluation.cli import policy_folder
 from acl_env.evaluation.runner import PolicySetError, make_pool
 from acl_env.evaluation.statistics import MIN_SEEDS
 from acl_env.io import atomic_output, console_script, jsonable, read_json, write_json
-from acl_env.training import cli
 
 DEFAULT_EPISODES = 10
 

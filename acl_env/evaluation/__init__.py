@@ -7,10 +7,13 @@ against, the records, running and the ``acl-evaluate`` command line.
 - :mod:`acl_env.evaluation.baselines`: the controllers and, per task, what it is judged against;
 - :mod:`acl_env.evaluation.records`: the one reader and writer of ``acl-evaluate --json`` records;
 - :mod:`acl_env.evaluation.runner`: running controllers in worker processes;
-- :mod:`acl_env.evaluation.figures` and :mod:`acl_env.evaluation.cli`: plots, videos, the command.
+- :mod:`acl_env.evaluation.figures` and :mod:`acl_env.evaluation.cli`: plots, videos, the command;
+- :mod:`acl_env.evaluation.compare`: ``acl-compare``, two evaluation records paired seed by seed;
+- :mod:`acl_env.evaluation.export`: an SB3 policy folder exported as a pickle-free pretrained one
+  (needs the ``train`` extra).
 
-Nothing here imports PyTorch, Stable-Baselines3 or PyYAML at import time: a policy folder is
-loaded (:mod:`acl_env.training.policy`) only when a controller plays one.
+Nothing here but the exporter imports PyTorch, Stable-Baselines3 or PyYAML at import time: a
+policy folder is loaded (:mod:`acl_env.training.policy`) only when a controller plays one.
 """
 
 from acl_env.evaluation.protocol import (

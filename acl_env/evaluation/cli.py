@@ -22,7 +22,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from acl_env import current_id, shipped
+from acl_env import cli, current_id, shipped
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
@@ -41,7 +41,6 @@ from acl_env.evaluation.runner import PolicySetError, evaluate, policies_control
 from acl_env.evaluation.statistics import MIN_SEEDS, over_seeds
 from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
-from acl_env.training import cli
 
 
 def policy_folder(text: str) -> Path:

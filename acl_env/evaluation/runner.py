@@ -12,6 +12,7 @@ from typing import Any
 import gymnasium
 from tqdm import tqdm
 
+from acl_env import cli
 from acl_env.evaluation.baselines import (
     AT_POLICY_CADENCE,
     DEFAULT_TUNED_GAITS,
@@ -22,7 +23,6 @@ from acl_env.evaluation.baselines import (
     read_policy,
 )
 from acl_env.evaluation.protocol import Episode, Policy, run_episode
-from acl_env.training import cli
 
 _WORKER_CACHE: dict[str, tuple[gymnasium.Env, Policy]] = {}
 # Envs a process keeps: a benchmark's cells each bring their own controllers, and an env holds

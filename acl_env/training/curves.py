@@ -19,8 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
+from acl_env import cli
 from acl_env.io import atomic_output, console_script, write_json
-from acl_env.training import cli
 
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 PANELS = {

@@ -19,10 +19,10 @@ from typing import Any
 import numpy as np
 import yaml
 
-from acl_env import ACL_CLIMB_SEA_ID, pretrained, shipped
+from acl_env import ACL_CLIMB_SEA_ID, cli, pretrained, shipped
 from acl_env.envs.observations import env_observation_names
 from acl_env.io import check_writable_folder
-from acl_env.training import cli, warm_start
+from acl_env.training import warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs, check_hyperparams
 from acl_env.training.config import (
     RecipeError,

@@ -25,9 +25,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-from acl_env import tuned_gaits
+from acl_env import cli, tuned_gaits
 from acl_env.io import check_output, check_writable_folder
-from acl_env.training import cli
 from acl_env.tuning.space import UsageError
 
 SEED_RANGE = (0, 2**31 - 1)
@@ -36,7 +35,7 @@ OUTPUT_SUFFIXES = (".json", ".yml", ".yaml")
 
 
 def int_in(low: int, high: int) -> Callable[[str], int]:
-    """An argparse type: an integer in ``[low, high]`` (:func:`acl_env.training.cli.int_at_least`;
+    """An argparse type: an integer in ``[low, high]`` (:func:`acl_env.cli.int_at_least`;
     a 400-digit one is refused, not converted)."""
     return cli.int_at_least(low, high)
 

@@ -40,11 +40,10 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_NOROLL_ID
+from acl_env import ACL_CLIMB_NOROLL_ID, cli
 from acl_env.evaluation import mean_ci95, run_episode, zero_policy
 from acl_env.evaluation.records import controller_summary, read_record
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
-from acl_env.training import cli
 
 TARGET_RATIO = 1.5  # the project's target: the policy's climb over the tuned non-rolling open loop
 ARC_LIMIT_DEG = 90.0  # the non-rolling task's limit: the touched arc allowed on every module

@@ -36,11 +36,11 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
+from acl_env import cli
 from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
 from acl_env.evaluation.baselines import evaluation_env_kwargs
 from acl_env.model import apply_physics_options
 from acl_env.scripts import parse_policy_args, policy_parser, save_figure, use_agg, write_outputs
-from acl_env.training import cli
 from acl_env.training.policy import load_policy, read_policy_folder
 
 HIGH_BAND = 0.25  # the top 3/4 of the spectrum, above a quarter of Nyquist

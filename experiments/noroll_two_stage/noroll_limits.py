@@ -18,10 +18,9 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_NOROLL_V2_ID, NOROLL_V2_KWARGS
+from acl_env import ACL_CLIMB_NOROLL_V2_ID, NOROLL_V2_KWARGS, cli
 from acl_env.evaluation import run_episode, zero_policy
 from acl_env.scripts import make_parser, write_output
-from acl_env.training import cli
 
 TUNED_GAIT: dict[str, Any] = dict(NOROLL_V2_KWARGS["gait_kwargs"])
 TUNED_SQUEEZE = float(NOROLL_V2_KWARGS["squeeze"])

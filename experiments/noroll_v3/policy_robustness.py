@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from acl_env import cli
 from acl_env.evaluation import summarize
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
@@ -32,7 +33,6 @@ from acl_env.evaluation.baselines import (
 )
 from acl_env.evaluation.runner import evaluate, make_pool
 from acl_env.scripts import add_trust_pickles, make_parser, save_figure, use_agg, write_output
-from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
 

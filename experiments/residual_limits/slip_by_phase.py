@@ -24,6 +24,7 @@ import gymnasium
 import numpy as np
 from tqdm import tqdm
 
+from acl_env import cli
 from acl_env.evaluation import run_episode, steps_per_cycle
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
@@ -42,7 +43,6 @@ from acl_env.scripts import (
     use_agg,
     write_output,
 )
-from acl_env.training import cli
 from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
 

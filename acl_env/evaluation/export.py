@@ -1,6 +1,6 @@
 """Export an SB3 policy folder as a pretrained, pickle-free one (:mod:`acl_env.pretrained`).
 
-``python -m acl_env.training.export SB3_FOLDER OUT_FOLDER --name NAME --trust-pickles
+``python -m acl_env.evaluation.export SB3_FOLDER OUT_FOLDER --name NAME --trust-pickles
 [--record docs/eval.json] [--commit SHA]``
 
 Reading an SB3 folder means unpickling its ``model.zip`` (and ``vecnormalize.pkl`` when it has no
@@ -26,11 +26,11 @@ from typing import Any
 
 import numpy as np
 
+from acl_env import cli
 from acl_env.evaluation.baselines import on_benchmark_id
 from acl_env.evaluation.records import evaluation_summary
 from acl_env.io import atomic_write, console_script, read_json, write_json
 from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
-from acl_env.training import cli
 from acl_env.training.policy import PolicyFolder, read_sb3_folder
 from acl_env.training.runs import ARGS_FILE, SUMMARY_FILE, read_vecnormalize, require_trust
 
@@ -175,7 +175,7 @@ def export_policy(
 def main(argv: Sequence[str] | None = None) -> Path:
     """The command line: export, print where."""
     parser = cli.ArgumentParser(
-        prog="python -m acl_env.training.export",
+        prog="python -m acl_env.evaluation.export",
         description="Export an SB3 policy folder as a pickle-free pretrained one (npz + JSON).",
     )
     parser.add_argument("sb3_folder", type=cli.existing_dir, help="SB3 run or policy folder")

@@ -1,5 +1,7 @@
-"""Command-line building blocks for the console scripts: argument types that refuse bad
-input before any work, with a one-line message naming the argument and what is accepted.
+"""Command-line building blocks shared by the console scripts of every subpackage (training,
+evaluation, tuning, benchmark) and by the scripts of ``benchmarks/`` (:mod:`acl_env.scripts`):
+argument types that refuse bad input before any work, with a one-line message naming the argument
+and what is accepted. Core dependencies only, so that any command line may import it.
 
 argparse turns an ``ArgumentTypeError`` raised by a ``type=`` function into
 ``argument --name: <message>``; :class:`ArgumentParser` prints that single line (no usage block)
@@ -16,10 +18,6 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from acl_env import io
-
-# The one key:value parser is acl_env.io's; its value parser and words, re-exported.
-from acl_env.io import WORDS as WORDS
-from acl_env.io import parse_value as parse_value
 from acl_env.validation import shown
 
 

@@ -21,12 +21,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from acl_env import cli
 from acl_env.evaluation import format_paired, paired_differences
 from acl_env.evaluation.baselines import POLICY_PREFIX
 from acl_env.evaluation.records import controller_env, controller_summary, read_record
 from acl_env.evaluation.statistics import SEED_METRICS, compare_samples
 from acl_env.io import console_script, write_json
-from acl_env.training import cli
 
 # Env kwargs that set the conditions an episode is played under (acl-evaluate's --env-kwargs and
 # the held-out overrides), rather than the controller: both sides must agree on them.

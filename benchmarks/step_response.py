@@ -26,13 +26,13 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from acl_env import actuators
+from acl_env.actuators import sea as actuators
+from acl_env.actuators.sea_rotor import MOTOR_KP, ROTOR_INERTIA
 from acl_env.constants import JOINT_LIMIT, PEAK_TORQUE, PHYSICS_TIMESTEP
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 
 LOAD_MASS = 3 * 0.205  # kg: three modules
 LOAD_LENGTH = 3 * 0.0639  # m
-ROTOR_INERTIA, MOTOR_KP = actuators.ROTOR_INERTIA, actuators.MOTOR_KP  # the two-hinge candidate
 STEP_TIME = 0.05  # s
 CANDIDATES = ("servo", "sea", "sea_two_hinge")
 

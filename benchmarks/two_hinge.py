@@ -26,15 +26,14 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, ROLLING_HELIX_CLIMB_ID
-from acl_env import actuators as sea
-from acl_env.actuators import ActuatorConfig
+from acl_env.actuators import sea
+from acl_env.actuators.sea_rotor import MOTOR_KP, ROTOR_INERTIA
 from acl_env.constants import PEAK_TORQUE, actuator_name, joint_name, link_name
 from acl_env.envs.contacts import SLIP_SAMPLES, ContactSampler
 from acl_env.evaluation.protocol import mean_ci95
 from acl_env.model import build_spec, snake_geom_ids
 from acl_env.scripts import make_parser, write_output
 
-ROTOR_INERTIA, MOTOR_KP = sea.ROTOR_INERTIA, sea.MOTOR_KP  # the two-hinge candidate
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
     "ACL (paper)": (ACL_CLIMB_ID, {}),
     "tuned ACL on the SEA (acl_sea)": (ACL_CLIMB_ID, {"tuned_gait": "acl_sea"}),
@@ -46,8 +45,8 @@ GAITS: dict[str, tuple[str, dict[str, Any]]] = {
 def two_hinge_model(env: Any) -> mujoco.MjModel:
     """The env's scene with a motor hinge beside every joint (see the module docstring)."""
     n = env.n_joints
-    config = ActuatorConfig("servo")  # plain position actuators, turned into the motors below
-    spec = build_spec(n, env.pole_radius, env.friction, timestep=env.timestep, actuators=config)
+    # plain position actuators (the default servo), turned into the motors below
+    spec = build_spec(n, env.pole_radius, env.friction, timestep=env.timestep)
     for j in range(n):
         spring = spec.joint(joint_name(j))
         spring.stiffness[0] = env.spring_stiffness

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import acl_env
-from acl_env.actuators import DEFLECTION_RESOLUTION, MOTOR_SPEED_LIMIT, SPRING_STIFFNESS
+from acl_env.actuators.sea import DEFLECTION_RESOLUTION, MOTOR_SPEED_LIMIT, SPRING_STIFFNESS
 from acl_env.constants import CONTROL_DT
 from acl_env.envs.acl_climb import ACLClimbEnv
 

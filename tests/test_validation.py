@@ -13,7 +13,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from acl_env import actuators
+from acl_env.actuators import ACTUATOR_MODELS, actuator_model
+from acl_env.actuators import sea as sea_model
+from acl_env.actuators.base import LATENCY_RANGE
+from acl_env.actuators.servo import KP_MAX
 from acl_env.constants import CONTROL_DT, DEFAULT_KP
 from acl_env.envs import ACLClimbEnv
 from acl_env.envs.arguments import (
@@ -22,7 +25,6 @@ from acl_env.envs.arguments import (
     FRICTION_MAX,
     GAIT_SAMPLES_RANGE,
     IMAGE_SIZE_RANGE,
-    KP_MAX,
     N_JOINTS_RANGE,
     POLE_RADIUS_RANGE,
     RESIDUAL_SCALE_MAX,
@@ -33,10 +35,10 @@ from acl_env.envs.arguments import (
 from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.envs.modulation import MODULATED_PARAMETERS, SECTIONS_RANGE
 from acl_env.envs.randomize import (
-    DEFAULT_RANDOMIZATION,
-    RANDOMIZATION_KEYS,
-    RANGE_BOUNDS,
     SENSOR_NOISE_MAX,
+    default_randomization,
+    randomization_bounds,
+    randomization_keys,
 )
 from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
 from acl_env.gait.gaits import SEA_MODULE_DIAMETER, SEA_MODULE_RADIUS
@@ -232,6 +234,10 @@ def dr_range(key: str, limits: tuple[float, float]) -> st.SearchStrategy[tuple[f
     )
 
 
+RANGE_BOUNDS = {
+    k: v for model in ACTUATOR_MODELS.values() for k, v in randomization_bounds(model).items()
+}
+DEFAULT_RANDOMIZATION = default_randomization("servo")
 RANDOMIZATION_LIMITS = {
     **RANGE_BOUNDS,
     "pole_radius": POLE_RADIUS_RANGE,
@@ -241,10 +247,10 @@ RANDOMIZATION_LIMITS = {
 
 
 SEA_RANGES = {
-    "spring_stiffness": actuators.SPRING_STIFFNESS_RANGE,
-    "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT_RANGE,
-    "control_latency": actuators.LATENCY_RANGE,
-    "sensor_latency": actuators.LATENCY_RANGE,
+    "spring_stiffness": sea_model.SPRING_STIFFNESS_RANGE,
+    "motor_speed_limit": sea_model.MOTOR_SPEED_LIMIT_RANGE,
+    "control_latency": LATENCY_RANGE,
+    "sensor_latency": LATENCY_RANGE,
 }
 
 
@@ -258,7 +264,7 @@ def valid_kwargs(draw: st.DrawFn) -> dict[str, Any]:
     dr_limits = {
         k: v
         for k, v in RANDOMIZATION_LIMITS.items()
-        if k in RANDOMIZATION_KEYS["sea" if sea else "servo"]
+        if k in randomization_keys(actuator_model("sea" if sea else "servo"))
     }
     gait_options: dict[str, st.SearchStrategy[Any]] = {"pitch": within((SEA_MODULE_DIAMETER, 0.3))}
     if base_gait != "rolling_helix":  # the ACL gait's (it also places "none"'s start pose)

@@ -24,7 +24,8 @@ from acl_env import (
     ACL_CLIMB_SEA_ID,
     current_id,
 )
-from acl_env.actuators import LATENCY_RANGE, SPRING_STIFFNESS
+from acl_env.actuators.base import LATENCY_RANGE
+from acl_env.actuators.sea import SPRING_STIFFNESS
 from acl_env.constants import DEFAULT_FRICTION, DEFAULT_KP, DEFAULT_POLE_RADIUS
 
 

@@ -13,7 +13,6 @@ from gymnasium import spaces
 from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
-from acl_env.actuators import JointReadout, start_motors
 from acl_env.constants import (
     DEFAULT_FRICTION,
     DEFAULT_KP,
@@ -35,14 +34,13 @@ from acl_env.envs.lifecycle import LifecycleMixin
 from acl_env.envs.modulation import offset_tables, table_radius
 from acl_env.envs.pickling import MujocoPickleMixin
 from acl_env.envs.randomize import (
-    DEFAULT_RANDOMIZATION,
-    PHYSICS_KEYS,
     RandomizedElements,
     apply_physics,
+    draw_order,
     draw_physics,
     sensor_noise_std,
 )
-from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS, StepMeasures, reward_terms
+from acl_env.envs.rewards import StepMeasures, reward_terms
 from acl_env.envs.start import RAMP_TIME, placed_qpos, ramp_in
 from acl_env.envs.stepping import StepPhysics
 from acl_env.gait import Gait
@@ -64,8 +62,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     The CMU SEA snake (module 0.0639 m long, 0.0508 m wide, 0.205 kg, +-90 deg joints, 7 N m)
     wraps a fixed pole of radius ``pole_radius``. Each 0.1 s step plays one keyframe of the base
     gait (Chen & Roth's ACL, Eq. 1-5, or the rolling helix) through the joint actuators
-    (``actuator_model``: "sea", series elastic actuators, or "servo", ideal position servos;
-    :mod:`acl_env.actuators`); a zero action plays the paper's open loop (220 keyframes, 22 s).
+    (``actuator_model``: "sea", series elastic actuators, "servo", ideal position servos, or
+    another model of :mod:`acl_env.actuators`); a zero action plays the paper's open loop (220
+    keyframes, 22 s).
 
     ## Action Space
     ``Box(-1, 1, (n_joints,), float32)``: joint ``j``'s target (rad) is ``clip(gait(phase)[j] +
@@ -165,7 +164,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
     | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
     | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
-    | actuator_model | "servo" | "sea", "servo" | the joint actuators (SEA tasks: "sea") |
+    | actuator_model | "servo" | a key of ``actuators.ACTUATOR_MODELS`` | the joints' actuators |
     | spring_stiffness | None (20.0) | [1, 200] | SEA spring, N m/rad (``kp`` is the servo's) |
     | motor_speed_limit | None (2.2) | [0.1, 100] | SEA motor top speed, rad/s |
     | control_latency | None (0.01) | [0, 0.2] | s from a command to the SEA motors |
@@ -185,7 +184,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     <= 10``) and ``kp`` (servo) or ``spring_stiffness``, ``motor_speed_limit``, ``control_latency``
     (SEA) at every reset, uniformly from ``(low, high)`` ranges inside those arguments' own, and
     adds Gaussian ``sensor_noise`` (``[0, 1]``: rad on angles, 10x in rad/s, stiffness x in N m);
-    ``True``: ``DEFAULT_RANDOMIZATION`` (servo), ``SEA_RANDOMIZATION`` (``envs/randomize.py``).
+    ``True``: ``envs.randomize.default_randomization(actuator_model)``.
 
     ## Version History
     * v1: physics step 1/300 s instead of 2 ms (``timestep=0.002`` is v0's). Later options, off
@@ -278,12 +277,12 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         n_actions = self._rate_index + (self.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         elements = self._elements = RandomizedElements.of(self.model, n)
-        sea = self.actuator_model == "sea"
-        nominal = (self.pole_radius, self.friction, None if sea else self.kp, 1.0)  # mass 1x
-        nominal += (self.spring_stiffness, self.motor_speed_limit, self.control_latency)
-        self._nominal_physics = dict(zip(PHYSICS_KEYS, nominal, strict=True))
-        self._readout = JointReadout(self.model, self.data, n, sea)
-        self._stiffness = self.spring_stiffness if sea else self.kp  # of this episode
+        actuators = self.actuators.model
+        scene = {"pole_radius": self.pole_radius, "friction": self.friction, "mass_scale": 1.0}
+        nominal = {**scene, **self.actuators.values}
+        self._nominal_physics = {key: nominal[key] for key in draw_order(actuators)}
+        self._readout = actuators.readout(self.model, self.data, n)
+        self._stiffness = self.actuators.values[actuators.stiffness]  # of this episode
         self._contacts = ContactSampler(self.model, elements.snake_geoms, elements.pole_geom)
         grip = (self._section_weights, self.grip_target, self.grip_gain, self.grip_leak)
         self._grip = GripController(*grip) if n_grip else None  # the 100 Hz loop, envs/grip.py
@@ -343,8 +342,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         rng = self.np_random
         self._contacts.pyramidal = self.model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
         physics = draw_physics(self.randomization, self._nominal_physics, rng)
-        apply_physics(self.model, self.data, self._elements, physics)
-        self._stiffness = physics["spring_stiffness" if "kp" not in physics else "kp"]
+        actuators = self.actuators.model
+        apply_physics(self.model, self.data, self._elements, physics, actuators)
+        self._stiffness = physics[actuators.stiffness]
         self._noise_std = sensor_noise_std(self.randomization, self._stiffness, self.n_joints)
         pole_radius = physics["pole_radius"]
         self.gait = self._make_gait(pole_radius)
@@ -365,9 +365,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             type(start_gait), kwargs, phase0, pole_radius, yaw, noise, self.init_qpos
         )
         self.set_state(qpos, np.zeros(self.model.nv))
-        start, target, duration = qpos[7:].copy(), start_gait.cycle()[self._k0], RAMP_TIME
-        if self.actuator_model == "sea":  # motors at rest there, given the time their speed asks
-            duration = start_motors(self.model, self.data, start, target, RAMP_TIME)
+        start, target = qpos[7 : 7 + self.n_joints].copy(), start_gait.cycle()[self._k0]
+        # the actuators at rest there, given the time their speed asks
+        duration = actuators.start(self.model, self.data, start, target, RAMP_TIME)
         ramp_in(self.model, self.data, start, target, duration)
         # The ramp ends holding keyframe k0: the first step plays the next one.
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
@@ -493,4 +493,4 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         return {"com_height": com, "phase": phase}
 
 
-__all__ = ["DEFAULT_RANDOMIZATION", "DEFAULT_REWARD_WEIGHTS", "ACLClimbEnv"]
+__all__ = ["ACLClimbEnv"]

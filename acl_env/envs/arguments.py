@@ -32,11 +32,11 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from acl_env import actuators, tuned_gaits
-from acl_env.actuators import ActuatorConfig
+from acl_env import tuned_gaits
+from acl_env.actuators import ACTUATOR_MODELS, ActuatorModel, all_options, owners
+from acl_env.actuators.base import ActuatorSetting
 from acl_env.constants import (
     CONTROL_DT,
-    DEFAULT_KP,
     DEFAULT_POLE_RADIUS,
     JOINT_LIMIT,
     SEA_MODULE_RADIUS,
@@ -86,7 +86,6 @@ STEPS_PER_CYCLE_RANGE = (2, 2200)
 CYCLES_PER_EPISODE_RANGE = (1, 8)
 POLE_RADIUS_RANGE = (0.01, 0.5)  # m
 FRICTION_MAX = 5.0
-KP_MAX = 200.0  # N m/rad
 SQUEEZE_RANGE = (-0.05, 0.05)  # m
 RESIDUAL_SCALE_MAX = math.pi  # rad
 FALL_DISTANCE_MAX = 4.0  # m: the pole's height
@@ -137,7 +136,7 @@ class EnvArguments:
     motor_speed_limit: float | None
     control_latency: float | None
     sensor_latency: float | None
-    actuators: ActuatorConfig
+    actuators: ActuatorSetting
     grip_target: float | None
     grip_gain: float | None
     grip_leak: float | None
@@ -234,7 +233,6 @@ def check_arguments(
     )
     pole_radius = check_range("pole_radius", pole_radius, *POLE_RADIUS_RANGE)
     friction = check_positive("friction", friction, FRICTION_MAX)
-    kp = check_positive("kp", kp, KP_MAX)
     squeeze = check_range("squeeze", squeeze, *SQUEEZE_RANGE)
     squeeze_slope = check_range("squeeze_slope", squeeze_slope, 0.0, 1.0)
     weights = check_reward_weights(
@@ -242,14 +240,20 @@ def check_arguments(
         if reward_weights is None
         else check_mapping("reward_weights", reward_weights, DEFAULT_REWARD_WEIGHTS)
     )
-    actuator_model = check_choice("actuator_model", actuator_model, actuators.ACTUATOR_MODELS)
-    sea = _sea_options(
-        actuator_model, kp, spring_stiffness, motor_speed_limit, control_latency, sensor_latency
-    )
+    actuator_model = check_choice("actuator_model", actuator_model, tuple(ACTUATOR_MODELS))
+    model = ACTUATOR_MODELS[actuator_model]
+    given = {
+        "kp": kp,
+        "spring_stiffness": spring_stiffness,
+        "motor_speed_limit": motor_speed_limit,
+        "control_latency": control_latency,
+        "sensor_latency": sensor_latency,
+    }
+    options = actuator_options(model, given)
     randomization = check_randomization(
         domain_randomization,
-        {"pole_radius": POLE_RADIUS_RANGE, "friction": (0.0, FRICTION_MAX), "kp": (0.0, KP_MAX)},
-        actuator_model,
+        {"pole_radius": POLE_RADIUS_RANGE, "friction": (0.0, FRICTION_MAX)},
+        model,
     )
     privileged_obs = check_bool("privileged_obs", privileged_obs)
     start_phase_range = check_range("start_phase_range", start_phase_range, 0.0, 1.0)
@@ -291,19 +295,11 @@ def check_arguments(
     if modulation and GAITS[base_gait] is None:
         raise ValueError("gait_modulation needs a base gait to modulate, got base_gait='none'")
     timestep, frame_skip = _timestep(timestep)
-    grip = _grip_options(
-        grip_target, grip_gain, grip_leak, grip_action_scale, actuator_model, base_gait
-    )
+    grip = _grip_options(grip_target, grip_gain, grip_leak, grip_action_scale, model, base_gait)
     if grip:
         check_ticks(frame_skip)
-    config = ActuatorConfig(
-        model=actuator_model,
-        spring_stiffness=sea.get("spring_stiffness", actuators.SPRING_STIFFNESS),
-        motor_speed_limit=sea.get("motor_speed_limit", actuators.MOTOR_SPEED_LIMIT),
-        control_latency=sea.get("control_latency", 0.0),
-        sensor_latency=sea.get("sensor_latency", 0.0),
-        max_control_latency=randomization.get("control_latency", (0.0, 0.0))[1],
-    )
+    history = randomization.get("control_latency", (0.0, 0.0))[1]
+    setting = ActuatorSetting(model, options, history_latency=history)
     return EnvArguments(
         base_gait=base_gait,
         tuned_gait=tuned_gait,
@@ -313,7 +309,7 @@ def check_arguments(
         residual_scale=residual_scale,
         pole_radius=pole_radius,
         friction=friction,
-        kp=kp,
+        kp=options.get("kp", all_options()["kp"].default),
         squeeze=squeeze,
         squeeze_slope=squeeze_slope,
         reward_weights=weights,
@@ -332,11 +328,11 @@ def check_arguments(
         timestep=timestep,
         frame_skip=frame_skip,
         actuator_model=actuator_model,
-        spring_stiffness=sea.get("spring_stiffness"),
-        motor_speed_limit=sea.get("motor_speed_limit"),
-        control_latency=sea.get("control_latency"),
-        sensor_latency=sea.get("sensor_latency"),
-        actuators=config,
+        spring_stiffness=options.get("spring_stiffness"),
+        motor_speed_limit=options.get("motor_speed_limit"),
+        control_latency=options.get("control_latency"),
+        sensor_latency=options.get("sensor_latency"),
+        actuators=setting,
         grip_target=grip.get("grip_target"),
         grip_gain=grip.get("grip_gain"),
         grip_leak=grip.get("grip_leak"),
@@ -344,52 +340,30 @@ def check_arguments(
     )
 
 
-SEA_OPTIONS = ("spring_stiffness", "motor_speed_limit", "control_latency", "sensor_latency")
-
-
-def _sea_options(
-    actuator_model: str,
-    kp: float,
-    spring_stiffness: object,
-    motor_speed_limit: object,
-    control_latency: object,
-    sensor_latency: object,
-) -> dict[str, float]:
-    """The SEA's options, checked (their defaults where None): only the SEA model has them, and
-    its spring is ``spring_stiffness``, not the servo's ``kp``. Empty for the servo."""
-    given = dict(
-        zip(
-            SEA_OPTIONS,
-            (spring_stiffness, motor_speed_limit, control_latency, sensor_latency),
-            strict=True,
-        )
-    )
-    if actuator_model != "sea":
-        for name, value in given.items():
-            if value is not None:
-                raise ValueError(f"{name} needs actuator_model='sea', got {actuator_model!r}")
-        return {}
-    if kp != DEFAULT_KP:
-        raise ValueError(
-            f"kp sets the servo's stiffness; with actuator_model='sea' set spring_stiffness "
-            f"instead, got kp={kp}"
-        )
-    defaults = {
-        "spring_stiffness": actuators.SPRING_STIFFNESS,
-        "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT,
-        "control_latency": actuators.CONTROL_LATENCY,
-        "sensor_latency": actuators.SENSOR_LATENCY,
-    }
-    ranges = {
-        "spring_stiffness": actuators.SPRING_STIFFNESS_RANGE,
-        "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT_RANGE,
-        "control_latency": actuators.LATENCY_RANGE,
-        "sensor_latency": actuators.LATENCY_RANGE,
-    }
-    return {
-        name: check_range(name, defaults[name] if value is None else value, *ranges[name])
-        for name, value in given.items()
-    }
+def actuator_options(model: ActuatorModel, given: Mapping[str, object]) -> dict[str, float]:
+    """The actuator ``model``'s options, checked (their defaults where not given): an option of
+    another model that was given (not None, nor the constructor's own default) is refused."""
+    known = all_options()
+    for name, value in given.items():
+        option = known[name]
+        if option in model.options or value == option.unset:
+            continue
+        if option.unset is not None:  # an argument every env has: its stiffness
+            raise ValueError(
+                f"{name} sets the {'/'.join(owners(name))}'s stiffness; with actuator_model="
+                f"{model.name!r} set {model.stiffness} instead, got {name}={shown(value)}"
+            )
+        models = " or ".join(map(repr, owners(name)))
+        raise ValueError(f"{name} needs actuator_model={models}, got {model.name!r}")
+    out = {}
+    for option in model.options:
+        value = given.get(option.name)
+        value = option.default if value is None and option.unset is None else value
+        if option.low_open:
+            out[option.name] = check_positive(option.name, value, option.high)
+        else:
+            out[option.name] = check_range(option.name, value, option.low, option.high)
+    return out
 
 
 def _grip_options(
@@ -397,7 +371,7 @@ def _grip_options(
     gain: object,
     leak: object,
     action_scale: object,
-    actuator_model: str,
+    model: ActuatorModel,
     base_gait: str,
 ) -> dict[str, float]:
     """The compliant grip's options (``envs/grip.py``), checked; empty when ``grip_target`` is
@@ -408,10 +382,11 @@ def _grip_options(
             if value is not None:
                 raise ValueError(f"{name} needs grip_target (the compliant grip), got None")
         return {}
-    if actuator_model != "sea":
+    if not model.elastic:
+        elastic = " or ".join(repr(m.name) for m in ACTUATOR_MODELS.values() if m.elastic)
         raise ValueError(
-            f"grip_target needs actuator_model='sea' (the springs measure the grip), "
-            f"got {actuator_model!r}"
+            f"grip_target needs actuator_model={elastic} (the springs measure the grip), "
+            f"got {model.name!r}"
         )
     if GAITS[base_gait] is None:
         raise ValueError("grip_target needs a base gait to adapt, got base_gait='none'")
@@ -505,7 +480,6 @@ __all__ = [
     "GAIT_KWARGS_REFUSED",
     "GAIT_SAMPLES_RANGE",
     "IMAGE_SIZE_RANGE",
-    "KP_MAX",
     "N_JOINTS_RANGE",
     "POLE_RADIUS_RANGE",
     "RESIDUAL_SCALE_MAX",
@@ -514,6 +488,7 @@ __all__ = [
     "STEPS_PER_CYCLE_RANGE",
     "TIMESTEP_RANGE",
     "EnvArguments",
+    "actuator_options",
     "check_arguments",
     "check_camera",
     "gait_kwargs_at",

@@ -1,10 +1,11 @@
 """Domain randomisation of the climbing scene: the ranges, their validation, and one draw applied.
 
-At every reset the env draws ``pole_radius``, ``friction``, ``mass_scale`` and the actuators'
-parameters (the servo's ``kp``; the SEA's ``spring_stiffness``, ``motor_speed_limit`` and
-``control_latency``) uniformly from their ``(low, high)`` ranges (the others keep the env's
-nominal values), writes them into the compiled model, and scales the Gaussian sensor noise of the
-observation.
+At every reset the env draws ``pole_radius``, ``friction``, ``mass_scale`` and the actuator
+model's randomised options (the servo's ``kp``; the SEA's ``spring_stiffness``,
+``motor_speed_limit`` and ``control_latency``: each model declares its own, with its defaults,
+in :mod:`acl_env.actuators`) uniformly from their ``(low, high)`` ranges (the others keep the
+env's nominal values), writes them into the compiled model, and scales the Gaussian sensor noise
+of the observation.
 """
 
 from __future__ import annotations
@@ -17,91 +18,82 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from acl_env import actuators
+from acl_env.actuators import DEFAULT_MODEL, ActuatorModel, actuator_model
 from acl_env.constants import POLE_GEOM, link_name
 from acl_env.model import snake_geom_ids
 from acl_env.validation import check_finite, check_mapping, check_range, check_sequence, shown
 
-DEFAULT_RANDOMIZATION: dict[str, Any] = {
+# What domain_randomization=True draws on every actuator model; the model adds its own ranges.
+SCENE_RANDOMIZATION: dict[str, Any] = {
     "pole_radius": (0.065, 0.09),
     "friction": (0.7, 1.2),
-    "kp": (15.0, 30.0),
     "mass_scale": (0.9, 1.1),
     "sensor_noise": 0.01,
 }
-# The SEA model's defaults: the servo's, with the spring instead of kp (+-20 %: 0.7x and 1.3x
-# stay held out), the motor's top speed from the URDF's 2.2 rad/s to the 3.2 rad/s that the
-# gearmotor reaches unloaded at 48 V, and up to two firmware ticks of command latency.
-SEA_RANDOMIZATION: dict[str, Any] = {
-    "pole_radius": (0.065, 0.09),
-    "friction": (0.7, 1.2),
-    "spring_stiffness": (16.0, 24.0),
-    "mass_scale": (0.9, 1.1),
-    "sensor_noise": 0.01,
-    "motor_speed_limit": (2.2, 3.2),
-    "control_latency": (0.0, 0.02),
-}
-# The keys each actuator model accepts.
-RANDOMIZATION_KEYS = {
-    "servo": tuple(DEFAULT_RANDOMIZATION),
-    "sea": tuple(SEA_RANDOMIZATION),
-}
-# Widest accepted (low, high) of each range; the env passes its own argument bounds as well.
-RANGE_BOUNDS: dict[str, tuple[float, float]] = {
+# Widest accepted (low, high) of the scene's ranges; the env passes its own argument bounds as
+# well, and each actuator model its options'.
+SCENE_BOUNDS: dict[str, tuple[float, float]] = {
     "pole_radius": (0.0, math.inf),
     "friction": (0.0, math.inf),
-    "kp": (0.0, math.inf),
     # 0.2 g to 2 kg modules (x 0.205 kg): below 1e-3 the inertia matrix is singular, the physics
     # unstable from the first step
     "mass_scale": (1e-3, 10.0),
-    "spring_stiffness": actuators.SPRING_STIFFNESS_RANGE,
-    "motor_speed_limit": actuators.MOTOR_SPEED_LIMIT_RANGE,
-    "control_latency": actuators.LATENCY_RANGE,
 }
 SENSOR_NOISE_MAX = 1.0  # rad: beyond this the angles are noise
-# The physical quantities a draw sets, in the order they are drawn (the order fixes the stream).
-# Keys an actuator model does not have are None in its nominal values and never drawn.
-PHYSICS_KEYS = (
-    "pole_radius",
-    "friction",
-    "kp",
-    "mass_scale",
-    "spring_stiffness",
-    "motor_speed_limit",
-    "control_latency",
-)
+
+
+def default_randomization(model: str | ActuatorModel) -> dict[str, Any]:
+    """What ``domain_randomization=True`` draws on the actuator ``model`` (a name or a model)."""
+    model = actuator_model(model) if isinstance(model, str) else model
+    return {**SCENE_RANDOMIZATION, **model.randomization}
+
+
+def randomization_bounds(model: ActuatorModel) -> dict[str, tuple[float, float]]:
+    """The widest accepted ranges of every key a draw on ``model`` can set."""
+    return {**SCENE_BOUNDS, **model.randomization_bounds}
+
+
+def randomization_keys(model: ActuatorModel) -> tuple[str, ...]:
+    """The keys ``domain_randomization`` accepts on ``model``."""
+    return (*SCENE_RANDOMIZATION, *model.randomized())
+
+
+def draw_order(model: ActuatorModel) -> tuple[str, ...]:
+    """The physical quantities a draw on ``model`` sets, in the order they are drawn (the order
+    fixes the random stream, as every version has drawn them)."""
+    late = [k for k in model.randomized() if k not in model.drawn_before_mass]
+    return ("pole_radius", "friction", *model.drawn_before_mass, "mass_scale", *late)
 
 
 def check_randomization(
     spec: object,
     bounds: Mapping[str, tuple[float, float]] | None = None,
-    actuator_model: str = "servo",
+    model: str | ActuatorModel = DEFAULT_MODEL,
 ) -> dict[str, Any]:
     """Validated domain-randomisation ranges (empty when off; ``True`` gives the defaults).
 
-    ``spec`` is ``None``, a bool or a mapping from :data:`DEFAULT_RANDOMIZATION`'s keys to
-    ``(low, high)`` pairs with ``0 < low <= high`` within :data:`RANGE_BOUNDS` (and
-    ``sensor_noise`` to a std in [0, 1]).
-    ``bounds`` (the env's accepted ranges of its own ``pole_radius``, ``friction``, ``kp``) caps
-    the draws: a draw is a value the constructor would have accepted. The keys depend on the
-    ``actuator_model`` (:data:`RANDOMIZATION_KEYS`; ``True`` gives :data:`SEA_RANDOMIZATION` for
-    the SEA); ``control_latency`` may start at 0.
+    ``spec`` is ``None``, a bool or a mapping from :func:`randomization_keys` to ``(low, high)``
+    pairs with ``0 < low <= high`` within :func:`randomization_bounds` (and ``sensor_noise`` to a
+    std in [0, 1]). ``bounds`` (the env's accepted ranges of its own ``pole_radius``,
+    ``friction``) caps the draws: a draw is a value the constructor would have accepted. The keys
+    depend on the actuator ``model`` (``True`` gives :func:`default_randomization`);
+    ``control_latency`` may start at 0.
     """
-    known = RANDOMIZATION_KEYS[actuator_model]
+    model = actuator_model(model) if isinstance(model, str) else model
+    known = randomization_keys(model)
     if spec is None:
         return {}
     if isinstance(spec, bool | np.bool_):
-        defaults = SEA_RANDOMIZATION if actuator_model == "sea" else DEFAULT_RANDOMIZATION
-        return dict(defaults) if spec else {}
+        return default_randomization(model) if spec else {}
     if not isinstance(spec, Mapping):
         raise TypeError(
             "domain_randomization must be None, True, False or a dict with keys from "
             f"{sorted(known)}, got {shown(spec)} ({type(spec).__name__})"
         )
-    limits = {**RANGE_BOUNDS, **(bounds or {})}
+    limits = {**randomization_bounds(model), **(bounds or {})}
     out: dict[str, Any] = {}
     for key, value in check_mapping(
-        f"domain_randomization (actuator_model {actuator_model!r})", spec, known
+        f"domain_randomization (actuator_model {model.name!r})", spec, known
     ).items():
         name = f"domain_randomization[{key!r}]"
         if key == "sensor_noise":
@@ -121,14 +113,13 @@ def check_randomization(
 
 
 def draw_physics(
-    ranges: Mapping[str, Any], nominal: Mapping[str, float | None], rng: np.random.Generator
+    ranges: Mapping[str, Any], nominal: Mapping[str, float], rng: np.random.Generator
 ) -> dict[str, float]:
-    """One draw of :data:`PHYSICS_KEYS`: uniform in ``ranges`` where given, else ``nominal``;
-    the keys whose nominal value is None (not of this actuator model) are left out."""
+    """One draw of ``nominal``'s keys, in its order (:func:`draw_order`): uniform in ``ranges``
+    where given, else the nominal value."""
     return {
         key: float(rng.uniform(*ranges[key])) if key in ranges else float(value)
-        for key in PHYSICS_KEYS
-        if (value := nominal[key]) is not None
+        for key, value in nominal.items()
     }
 
 
@@ -159,18 +150,15 @@ def apply_physics(
     data: mujoco.MjData,
     elements: RandomizedElements,
     values: Mapping[str, float],
+    actuators: ActuatorModel,
 ) -> None:
-    """Write a draw of :data:`PHYSICS_KEYS` into ``model`` (pole size, friction, actuator
-    parameters, link masses and inertias), then recompute what the compiler derived from them."""
+    """Write a draw (:func:`draw_physics`) into ``model`` (pole size, friction, link masses and
+    inertias; the actuator options through ``actuators``), then recompute what the compiler
+    derived from them."""
     model.geom_size[elements.pole_geom, 0] = values["pole_radius"]
     model.geom_friction[elements.snake_geoms, 0] = values["friction"]
     model.geom_friction[elements.pole_geom, 0] = values["friction"]
-    if "kp" in values:
-        actuators.set_servo_stiffness(model, values["kp"])
-    if "spring_stiffness" in values:
-        actuators.set_spring_stiffness(model, values["spring_stiffness"])
-        actuators.set_motor_speed_limit(model, values["motor_speed_limit"])
-        actuators.set_control_latency(model, values["control_latency"])
+    actuators.apply(model, values)
     scale = values["mass_scale"]
     model.body_mass[elements.snake_bodies] = elements.mass * scale
     model.body_inertia[elements.snake_bodies] = elements.inertia * scale

@@ -48,7 +48,7 @@ def placed_qpos(
     qpos = qpos0.copy()
     qpos[:3] = yaw_rot @ translation
     mujoco.mju_mat2Quat(qpos[3:7], (yaw_rot @ rotation).ravel())
-    qpos[7:] = np.clip(angles + joint_noise, -JOINT_LIMIT, JOINT_LIMIT)
+    qpos[7 : 7 + len(angles)] = np.clip(angles + joint_noise, -JOINT_LIMIT, JOINT_LIMIT)
     return qpos
 
 

@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 from gymnasium.envs.mujoco import MujocoEnv
 
-from acl_env.actuators import JointReadout
+from acl_env.actuators.base import JointReadout
 from acl_env.constants import JOINT_LIMIT
 from acl_env.envs.contacts import SLIP_SAMPLES, ContactSampler
 from acl_env.envs.grip import GRIP_TICKS, GripController

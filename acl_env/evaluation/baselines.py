@@ -62,6 +62,7 @@ from acl_env import (
     shipped,
     tuned_gaits,
 )
+from acl_env.actuators import DEFAULT_MODEL, actuator_model
 from acl_env.envs.kwargs import make_quietly
 from acl_env.evaluation.protocol import Policy, constant_cadence_policy, zero_policy
 from acl_env.pretrained import PolicySource
@@ -234,6 +235,13 @@ def env_setting(env_id: str, env_kwargs: dict[str, Any], key: str, default: Any 
     return {**(gymnasium.spec(env_id).kwargs or {}), **env_kwargs}.get(key, default)
 
 
+def is_elastic(env_id: str, env_kwargs: dict[str, Any]) -> bool:
+    """Do this env's joints have springs (its actuator model's ``elastic``)? Then its gaits are
+    the ones tuned on the SEA, and the compliant grip can read them."""
+    name = env_setting(env_id, env_kwargs, "actuator_model", DEFAULT_MODEL)
+    return actuator_model(name).elastic
+
+
 def task_baselines(env_id: str) -> TaskBaselines:
     """The entry of :data:`TASKS` for ``env_id``; an env id another package registers
     (``--gym-packages``) gets one read off its registration."""
@@ -363,11 +371,12 @@ def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[
         for benchmark, base_id in BENCHMARK_BASES.items()
         if base_id == env_id
     ]
-    actuator = env_kwargs.get("actuator_model", env_setting(env_id, {}, "actuator_model", "servo"))
+    actuator = env_kwargs.get("actuator_model", env_setting(env_id, {}, "actuator_model"))
+    actuator = actuator or DEFAULT_MODEL
     for benchmark, implied in sorted(candidates, key=lambda item: -len(item[1])):
         # The actuator model names the task: a servo id with actuator_model="sea" left over
         # would contradict itself.
-        if env_setting(benchmark, {}, "actuator_model", "servo") != actuator:
+        if env_setting(benchmark, {}, "actuator_model", DEFAULT_MODEL) != actuator:
             continue
         if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
             return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
@@ -446,7 +455,7 @@ def build_controllers(
     controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
     non_rolling = is_non_rolling(acl_id, acl_kwargs)
     weights = base.get("reward_weights")
-    if tuned_key is None and env_setting(acl_id, acl_kwargs, "actuator_model") == "sea":
+    if tuned_key is None and is_elastic(acl_id, acl_kwargs):
         tuned_key = sea_tuned_key(default_tuned_key(acl_id, non_rolling))
     tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, acl_id)
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
@@ -499,7 +508,7 @@ def _compliant(
     tuned on it (entry ``<tuned key>_grip``), and the same at the policy's cadence; none, with a
     note, off the SEA or without such an entry."""
     key = f"{tuned_key}_grip"
-    if tuned_key is None or env_setting(env_id, kwargs, "actuator_model") != "sea":
+    if tuned_key is None or not is_elastic(env_id, kwargs):
         notes.append(f"{COMPLIANT}: skipped, the compliant grip needs the SEA")
         return []
     try:

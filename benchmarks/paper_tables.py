@@ -105,14 +105,37 @@ def gait_settings(gait: Any) -> dict[str, float]:
     }
 
 
+@dataclass
+class Trace:
+    """What a rollout records at every step: the link frames, the joint angles, which modules
+    touch the pole and, from the first step on, the axial drift of the last step's contacts."""
+
+    frames: list[np.ndarray] = field(default_factory=list)
+    angles: list[np.ndarray] = field(default_factory=list)
+    touching: list[np.ndarray] = field(default_factory=list)
+    drift: list[float] = field(default_factory=list)
+
+
 def run_rollout(job: Rollout) -> Rollout:
     """Zero-action rollout of ``CYCLES`` cycles, Eq. 6 on the gait and on the simulated shape."""
+    episode, gait, trace = play(job)
+    job.steps = episode.steps
+    job.simulated_cm = 100.0 * episode.climb
+    job.slip_cm = 100.0 * episode.slip
+    job.fell, job.unstable = episode.fell, episode.unstable
+    job.anchor_drift_cm = 100.0 * float(np.sum(trace.drift))
+    job.settings = gait_settings(gait) if hasattr(gait, "curve") else {}
+    apply_eq6(job, gait, trace)
+    return job
+
+
+def play(job: Rollout) -> tuple[Any, Any, Trace]:
+    """The job's zero-action episode, its gait (drawn at the reset: domain randomisation
+    rebuilds it for the drawn pole) and its :class:`Trace`."""
     import gymnasium
 
     import acl_env  # noqa: F401  (registers the environments)
-    from acl_env.estimation import estimate_from_frames, estimate_gait_cycle
     from acl_env.evaluation import PoleContacts, run_episode, zero_policy
-    from acl_env.gait.kinematics import count_body_rolls
 
     env = gymnasium.make(
         job.env_id,
@@ -124,51 +147,52 @@ def run_rollout(job: Rollout) -> Rollout:
     data = base.data
     contacts = PoleContacts(env)
     bodies = contacts.bodies[1:]  # the frame of link k sits at joint k - 1
-    frames, angles, touching, drift = [], [], [], []
+    trace = Trace()
     # The pole contacts of the last step: module, point in the module's frame, point in the world.
     anchors = [(np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3)))]
 
     def record(env: Any, obs: np.ndarray, action: np.ndarray | None, info: dict) -> None:
-        frames.append(data.xpos[bodies].copy())
-        angles.append(data.qpos[7:].copy())
+        trace.frames.append(data.xpos[bodies].copy())
+        trace.angles.append(data.qpos[7:].copy())
         if action is None:  # the reset
             return
         k, local, world = anchors[0]
         if len(k):  # where the material points that touched at the last step went
             moved = contacts.positions(k) + np.einsum("kij,kj->ki", contacts.rotations(k), local)
-            drift.append(np.mean(moved[:, 2] - world[:, 2]))
+            trace.drift.append(np.mean(moved[:, 2] - world[:, 2]))
         anchors[0] = contacts()
         touched = np.zeros(contacts.n_modules, dtype=bool)
         touched[anchors[0][0]] = True
-        touching.append(touched)
+        trace.touching.append(touched)
 
     episode = run_episode(env, zero_policy(env), job.seed, record)
-    gait = base.gait  # drawn at the reset: domain randomisation rebuilds it for the drawn pole
+    gait = base.gait
     env.close()
-    job.steps = episode.steps
-    job.simulated_cm = 100.0 * episode.climb
-    job.slip_cm = 100.0 * episode.slip
-    job.fell, job.unstable = episode.fell, episode.unstable
-    job.anchor_drift_cm = 100.0 * float(np.sum(drift))
+    return episode, gait, trace
 
-    job.settings = gait_settings(gait) if hasattr(gait, "curve") else {}
+
+def apply_eq6(job: Rollout, gait: Any, trace: Trace) -> None:
+    """Eq. 6 on the commanded gait and on the simulated joint positions, and how often its
+    contact joints really touch the pole, into ``job``."""
+    from acl_env.estimation import estimate_from_frames, estimate_gait_cycle
+    from acl_env.gait.kinematics import count_body_rolls
+
     estimate = estimate_gait_cycle(gait)
     job.estimated_cm = 100.0 * CYCLES * estimate.displacement
     job.shift_cm = 100.0 * CYCLES * estimate.shift
     job.roll_cm = 100.0 * CYCLES * estimate.roll_travel
-    frames_arr, angles_arr = np.array(frames), np.array(angles)
+    frames_arr, angles_arr = np.array(trace.frames), np.array(trace.angles)
     rolls = count_body_rolls(angles_arr, frames_arr, gait.module_length)
     measured = estimate_from_frames(frames_arr, rolls=rolls, pole=POLE)
     job.measured_shape_cm = 100.0 * measured.displacement
     job.measured_rolls = float(rolls)
-    touch = np.array(touching)
+    touch = np.array(trace.touching)
     job.links_touching = float(touch.sum(axis=1).mean())
     # Joint j joins links j and j + 1; the contacts of step t are those identified at frame t.
     contacts_eq6 = measured.contacts[:-1]
     rows = np.arange(len(contacts_eq6))[:, None]
     hit = touch[rows, contacts_eq6] | touch[rows, contacts_eq6 + 1]
     job.contact_hit_pct = float(100.0 * hit.mean())
-    return job
 
 
 def run_all(jobs: list[Rollout], workers: int) -> list[Rollout]:

@@ -62,57 +62,59 @@ def finite_info(info: dict[str, Any]) -> bool:
     return all(math.isfinite(v) for v in info.values() if isinstance(v, float | np.floating))
 
 
-def soak(steps: int, seed: int, progress: bool = True) -> dict[str, Any]:
-    """Run ``steps`` random-action steps; the counts and memory figures as a dict."""
-    envs = [gym.make(env_id, domain_randomization=True, **kwargs) for env_id, kwargs in CONFIGS]
-    rng = np.random.default_rng(seed)
-    counts = {
-        "steps": 0,
-        "resets": 0,
-        "episodes_truncated": 0,
-        "falls": 0,
-        "instabilities": 0,
-        "mujoco_warnings": 0,
-        "exceptions": 0,
-        "non_finite_steps": 0,
-        "info_not_json": 0,
-    }
-    warnings_by_kind = dict.fromkeys(WARNING_NAMES.values(), 0)
-    errors: list[str] = []
-    per_config_steps = [0] * len(envs)
+class SoakRun:
+    """The soak's envs, its one random stream (reset seeds and actions, in that order of use),
+    the env in play and the tallies of what went wrong."""
 
-    def reset(index: int) -> tuple[gym.Env, np.ndarray]:
-        env = envs[index]
-        counts["resets"] += 1
-        env.reset(seed=int(rng.integers(2**31)))
+    def __init__(self, seed: int) -> None:
+        self.envs = [
+            gym.make(env_id, domain_randomization=True, **kwargs) for env_id, kwargs in CONFIGS
+        ]
+        self.rng = np.random.default_rng(seed)
+        self.counts = {
+            "steps": 0,
+            "resets": 0,
+            "episodes_truncated": 0,
+            "falls": 0,
+            "instabilities": 0,
+            "mujoco_warnings": 0,
+            "exceptions": 0,
+            "non_finite_steps": 0,
+            "info_not_json": 0,
+        }
+        self.warnings_by_kind = dict.fromkeys(WARNING_NAMES.values(), 0)
+        self.errors: list[str] = []
+        self.per_config_steps = [0] * len(self.envs)
+        self.index = 0
+        self.env, self.seen = self.reset(self.index)
+
+    def reset(self, index: int) -> tuple[gym.Env, np.ndarray]:
+        """Reset env ``index`` from a fresh seed; it and its warning counters."""
+        env = self.envs[index]
+        self.counts["resets"] += 1
+        env.reset(seed=int(self.rng.integers(2**31)))
         return env, warning_counts(env)
 
-    index = 0
-    env, seen = reset(index)
-    rss_start = rss_mb()
-    rss_trace = [rss_start]
-    start = time.perf_counter()
-    bar = tqdm(total=steps, desc="soak", unit="step", disable=not progress, mininterval=1.0)
-    for done in range(1, steps + 1):
-        action = rng.uniform(-1.0, 1.0, env.action_space.shape).astype(np.float32)
+    def record_exception(self) -> None:
+        """Count the exception being handled, and keep its traceback (the first ten)."""
+        self.counts["exceptions"] += 1
+        if len(self.errors) < 10:
+            self.errors.append(traceback.format_exc(limit=3))
+
+    def step(self) -> None:
+        """One uniform random action, tallied; the next env's episode when this one ends."""
+        env = self.env
+        action = self.rng.uniform(-1.0, 1.0, env.action_space.shape).astype(np.float32)
         try:
             obs, reward, terminated, truncated, info = env.step(action)
         except Exception:  # counted and reported: the env promises never to raise here
-            counts["exceptions"] += 1
-            if len(errors) < 10:
-                errors.append(traceback.format_exc(limit=3))
+            self.record_exception()
             terminated, truncated, info = True, False, {}
             obs, reward = np.zeros(1), 0.0
-        counts["steps"] += 1
-        per_config_steps[index] += 1
-        now = warning_counts(env)
-        # MuJoCo's own reset on divergence keeps counting from the old counters.
-        new = np.maximum(now - seen, 0)
-        seen = now
-        counts["mujoco_warnings"] += int(new.sum())
-        for kind, number in enumerate(new):
-            if number:
-                warnings_by_kind[WARNING_NAMES.get(kind, str(kind))] += int(number)
+        self.counts["steps"] += 1
+        self.per_config_steps[self.index] += 1
+        self.count_warnings()
+        counts = self.counts
         if not (np.all(np.isfinite(obs)) and math.isfinite(float(reward)) and finite_info(info)):
             counts["non_finite_steps"] += 1
         try:
@@ -123,33 +125,53 @@ def soak(steps: int, seed: int, progress: bool = True) -> dict[str, Any]:
         counts["instabilities"] += bool(info.get("unstable", False))
         counts["episodes_truncated"] += bool(truncated and not terminated)
         if terminated or truncated:
-            index = (index + 1) % len(envs)
+            self.index = (self.index + 1) % len(self.envs)
             try:
-                env, seen = reset(index)
+                self.env, self.seen = self.reset(self.index)
             except Exception:
-                counts["exceptions"] += 1
-                if len(errors) < 10:
-                    errors.append(traceback.format_exc(limit=3))
-                env, seen = reset(index)
+                self.record_exception()
+                self.env, self.seen = self.reset(self.index)
+
+    def count_warnings(self) -> None:
+        """Add the MuJoCo warnings of the last step, by kind."""
+        now = warning_counts(self.env)
+        # MuJoCo's own reset on divergence keeps counting from the old counters.
+        new = np.maximum(now - self.seen, 0)
+        self.seen = now
+        self.counts["mujoco_warnings"] += int(new.sum())
+        for kind, number in enumerate(new):
+            if number:
+                self.warnings_by_kind[WARNING_NAMES.get(kind, str(kind))] += int(number)
+
+
+def soak(steps: int, seed: int, progress: bool = True) -> dict[str, Any]:
+    """Run ``steps`` random-action steps; the counts and memory figures as a dict."""
+    run = SoakRun(seed)
+    rss_start = rss_mb()
+    rss_trace = [rss_start]
+    start = time.perf_counter()
+    bar = tqdm(total=steps, desc="soak", unit="step", disable=not progress, mininterval=1.0)
+    for done in range(1, steps + 1):
+        run.step()
         if done % max(1, steps // 10) == 0:
             rss_trace.append(rss_mb())
         bar.update(1)
     bar.close()
     elapsed = time.perf_counter() - start
-    for env in envs:
+    for env in run.envs:
         env.close()
     return {
-        **counts,
-        "steps_per_config": dict(zip(LABELS, per_config_steps, strict=True)),
-        "warnings_by_kind": {k: v for k, v in warnings_by_kind.items() if v},
+        **run.counts,
+        "steps_per_config": dict(zip(LABELS, run.per_config_steps, strict=True)),
+        "warnings_by_kind": {k: v for k, v in run.warnings_by_kind.items() if v},
         "rss_start_mb": rss_start,
         "rss_end_mb": rss_mb(),
         "rss_peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         "rss_trace_mb": rss_trace,
         "wall_s": elapsed,
-        "steps_per_s": counts["steps"] / elapsed,
+        "steps_per_s": run.counts["steps"] / elapsed,
         "seed": seed,
-        "errors": errors,
+        "errors": run.errors,
     }
 
 

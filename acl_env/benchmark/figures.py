@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import itertools
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -42,7 +42,7 @@ def plot_heat_maps(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    title, scale, fmt, unit = TITLES[score]
+    title, scale, _, unit = TITLES[score]
     axes_info = record["settings"]["axes"]
     pairs = list(itertools.combinations(axes_info, 2))
     policies, analytic = controllers_of(record)
@@ -56,46 +56,12 @@ def plot_heat_maps(
         layout="constrained",
     )
     cmap = "viridis" if score in ("success_rate", "climb_per_gait_cycle_m") else "viridis_r"
-    values_all = []
-    for row in rows:
-        names = policies if row == "policies" else [row]
-        for cell in record["cells"].values():
-            values_all += [_value(cell["controllers"][n], score) * scale for n in names]
-    finite = [v for v in values_all if np.isfinite(v)]
-    vmin, vmax = (min(finite), max(finite)) if finite else (0.0, 1.0)
+    colours = _Colours(cmap, *_value_range(record, rows, policies, score, scale))
     image = None
     for r, row in enumerate(rows):
         names = policies if row == "policies" else [row]
-        for c, (x_name, y_name) in enumerate(pairs):
-            ax = grid[r, c]
-            xs, ys = axes_info[x_name]["values"], axes_info[y_name]["values"]
-            nominal = {k: a["nominal"] for k, a in axes_info.items()}
-            data = np.full((len(ys), len(xs)), np.nan)
-            for (i, y), (j, x) in itertools.product(enumerate(ys), enumerate(xs)):
-                changed = {k: v for k, v in ((x_name, x), (y_name, y)) if v != nominal[k]}
-                cell = record["cells"].get(Cell(changed, held_out=False).key)
-                if cell is None:
-                    continue
-                results = [cell["controllers"][n] for n in names]
-                data[i, j] = np.nanmean([_value(res, score) for res in results]) * scale
-                ax.text(
-                    j,
-                    i,
-                    "" if np.isnan(data[i, j]) else fmt.format(data[i, j]),
-                    ha="center",
-                    va="center",
-                    fontsize=8,
-                    # dark text on the colour map's light end (high values, or low reversed)
-                    color="black" if _light(data[i, j], vmin, vmax, cmap) else "white",
-                )
-                falls = np.mean([res["falls"] / res["episodes"] for res in results])
-                if falls > 0.5:
-                    ax.plot(j, i, marker="x", color="red", markersize=18, mew=2)
-            image = ax.imshow(data, origin="lower", cmap=cmap, vmin=vmin, vmax=vmax, aspect="auto")
-            ax.set_xticks(range(len(xs)), [f"{x:g}" for x in xs], fontsize=8)
-            ax.set_yticks(range(len(ys)), [f"{y:g}" for y in ys], fontsize=8)
-            ax.set_xlabel(x_name, fontsize=9)
-            ax.set_ylabel(y_name, fontsize=9)
+        for c, pair in enumerate(pairs):
+            image = _heat_map(grid[r, c], record, names, pair, score, colours)
         label = f"policies (mean of {len(policies)})" if row == "policies" else labels.get(row, row)
         grid[r, 0].annotate(
             label,
@@ -113,6 +79,79 @@ def plot_heat_maps(
     fig.suptitle(f"{record['settings']['task']}: {title}; x: falls in most episodes", fontsize=12)
     fig.savefig(path, dpi=90)
     plt.close(fig)
+
+
+class _Colours(NamedTuple):
+    """The heat maps' colour map and the values at its ends, shared by every panel."""
+
+    cmap: str
+    vmin: float
+    vmax: float
+
+    def text(self, value: float) -> str:
+        """The colour of text on ``value``'s colour: dark on the colour map's light end (high
+        values, or low reversed)."""
+        return "black" if _light(value, self.vmin, self.vmax, self.cmap) else "white"
+
+
+def _value_range(
+    record: dict[str, Any], rows: list[str], policies: list[str], score: str, scale: float
+) -> tuple[float, float]:
+    """The least and greatest finite ``score`` (scaled) of the rows' controllers over all cells
+    (0 and 1 when there is none)."""
+    values_all = []
+    for row in rows:
+        names = policies if row == "policies" else [row]
+        for cell in record["cells"].values():
+            values_all += [_value(cell["controllers"][n], score) * scale for n in names]
+    finite = [v for v in values_all if np.isfinite(v)]
+    return (min(finite), max(finite)) if finite else (0.0, 1.0)
+
+
+def _heat_map(
+    ax: Any,
+    record: dict[str, Any],
+    names: list[str],
+    pair: tuple[str, str],
+    score: str,
+    colours: _Colours,
+) -> Any:
+    """One panel: the mean ``score`` of the controllers ``names`` over the grid of the ``pair``
+    of axes (the others nominal), each cell written in and crossed where they fall in most
+    episodes; return its image."""
+    _, scale, fmt, _ = TITLES[score]
+    axes_info = record["settings"]["axes"]
+    x_name, y_name = pair
+    xs, ys = axes_info[x_name]["values"], axes_info[y_name]["values"]
+    nominal = {k: a["nominal"] for k, a in axes_info.items()}
+    data = np.full((len(ys), len(xs)), np.nan)
+    for (i, y), (j, x) in itertools.product(enumerate(ys), enumerate(xs)):
+        changed = {k: v for k, v in ((x_name, x), (y_name, y)) if v != nominal[k]}
+        cell = record["cells"].get(Cell(changed, held_out=False).key)
+        if cell is None:
+            continue
+        results = [cell["controllers"][n] for n in names]
+        data[i, j] = np.nanmean([_value(res, score) for res in results]) * scale
+        ax.text(
+            j,
+            i,
+            "" if np.isnan(data[i, j]) else fmt.format(data[i, j]),
+            ha="center",
+            va="center",
+            fontsize=8,
+            color=colours.text(data[i, j]),
+        )
+        falls = np.mean([res["falls"] / res["episodes"] for res in results])
+        if falls > 0.5:
+            ax.plot(j, i, marker="x", color="red", markersize=18, mew=2)
+    image = ax.imshow(
+        data, origin="lower", cmap=colours.cmap, vmin=colours.vmin, vmax=colours.vmax, aspect="auto"
+    )
+    ax.set_xticks(range(len(xs)), [f"{x:g}" for x in xs], fontsize=8)
+    ax.set_yticks(range(len(ys)), [f"{y:g}" for y in ys], fontsize=8)
+    ax.set_xlabel(x_name, fontsize=9)
+    ax.set_ylabel(y_name, fontsize=9)
+    return image
 
 
 def plot_profiles(

@@ -168,8 +168,25 @@ def _checked_controllers(
 ) -> tuple[list[Controller], list[str]]:
     """Controllers built and each env and policy made once, so that every bad argument is refused
     (one line, exit status 2) before any episode runs."""
-    # The env checks need PyYAML, an SB3 folder's reader too: imported when used.
-    from acl_env.envs.kwargs import check_env_kwargs
+    overrides, weights = _checked_overrides(parser, args)
+    folders = _policy_folders(parser, args)
+    controllers, notes = _built_controllers(parser, args, folders, overrides, weights)
+    for controller in controllers:
+        _check_controller(parser, controller)
+    names = [c.name for c in controllers]
+    unknown = [name for name in args.video_beside if name not in names]
+    if unknown:
+        parser.error(f"argument --video-beside: unknown controllers {unknown}; these run: {names}")
+    if args.video_beside and not args.video:
+        parser.error("argument --video-beside: needs --video")
+    return controllers, notes
+
+
+def _checked_overrides(
+    parser: cli.ArgumentParser, args: argparse.Namespace
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """``--env-kwargs`` and ``--reward-weights`` (None when not given) as dicts, the weights
+    checked as the env checks them."""
     from acl_env.envs.rewards import check_reward_weights
 
     try:
@@ -184,6 +201,12 @@ def _checked_controllers(
             check_reward_weights(weights)
         except (ValueError, TypeError) as error:
             parser.error(f"argument --reward-weights: {error}")
+    return overrides, weights
+
+
+def _policy_folders(parser: cli.ArgumentParser, args: argparse.Namespace) -> list[Any]:
+    """The ``--policy`` folders read (an SB3 one only with ``--trust-pickles``), all of one
+    task; none with ``--no-policy``."""
     folders = []
     for path in [] if args.no_policy else args.policy:
         try:
@@ -200,6 +223,18 @@ def _checked_controllers(
     tasks = {current_id(folder.env_id) for folder in folders}
     if len(tasks) > 1:
         parser.error(f"argument --policy: the policies are of several tasks: {sorted(tasks)}")
+    return folders
+
+
+def _built_controllers(
+    parser: cli.ArgumentParser,
+    args: argparse.Namespace,
+    folders: list[Any],
+    overrides: dict[str, Any],
+    weights: dict[str, Any] | None,
+) -> tuple[list[Controller], list[str]]:
+    """The controllers of the policy (or of each of several policies) and the notes on those
+    skipped; a bad gait file, policy set or gait override is refused naming its option."""
     try:
         if len(folders) > 1:
             controllers, notes = policies_controllers(
@@ -228,29 +263,28 @@ def _checked_controllers(
     if args.tuned_key is not None and not any(c.name == "open_loop_tuned" for c in controllers):
         skipped = [note for note in notes if note.startswith("open_loop_tuned: skipped")]
         parser.error(f"argument --tuned-key: {'; '.join(skipped)}")
-    for controller in controllers:
-        try:
-            # quiet: the evaluation spells its controllers' ids (Controller.make_env); the env
-            # checked is the one that runs, an error names its registered task, as records do
-            env = check_env_kwargs(controller.env_id, controller.env_kwargs, quiet=True)
-        except (ValueError, TypeError, ArithmeticError) as error:
-            message = str(error).replace(controller.env_id, controller.task()[0])
-            parser.error(f"argument --env-kwargs: {controller.title}: {message}")
-        try:
-            controller.make_policy(env)
-        except SpaceMismatchError as error:
-            parser.error(f"argument --env-kwargs: {error}")
-        except ValueError as error:
-            parser.error(f"argument --policy: {error}")
-        finally:
-            env.close()
-    names = [c.name for c in controllers]
-    unknown = [name for name in args.video_beside if name not in names]
-    if unknown:
-        parser.error(f"argument --video-beside: unknown controllers {unknown}; these run: {names}")
-    if args.video_beside and not args.video:
-        parser.error("argument --video-beside: needs --video")
     return controllers, notes
+
+
+def _check_controller(parser: cli.ArgumentParser, controller: Controller) -> None:
+    """Make the controller's env and policy once: what either refuses is refused here."""
+    from acl_env.envs.kwargs import check_env_kwargs
+
+    try:
+        # quiet: the evaluation spells its controllers' ids (Controller.make_env); the env
+        # checked is the one that runs, an error names its registered task, as records do
+        env = check_env_kwargs(controller.env_id, controller.env_kwargs, quiet=True)
+    except (ValueError, TypeError, ArithmeticError) as error:
+        message = str(error).replace(controller.env_id, controller.task()[0])
+        parser.error(f"argument --env-kwargs: {controller.title}: {message}")
+    try:
+        controller.make_policy(env)
+    except SpaceMismatchError as error:
+        parser.error(f"argument --env-kwargs: {error}")
+    except ValueError as error:
+        parser.error(f"argument --policy: {error}")
+    finally:
+        env.close()
 
 
 def main(argv: Sequence[str] | None = None) -> dict[str, Any]:

@@ -258,54 +258,77 @@ def _only_entry(config_path: Path) -> str | None:
     return entries[0] if len(entries) == 1 else None
 
 
-def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
-    """Check every argument and file; raise :class:`ConfigError` naming the first bad one."""
-    settings = dict(DEFAULT_SETTINGS)
-    hyperparam_overrides = cli.pairs_to_dict("--hyperparams", args.hyperparams)
-    env_kwarg_overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
-    if args.resume and args.init_from:
-        raise _bad("--init-from", "a resumed run continues its own policy; start a new run")
-    if args.resume:
-        given = [f"--{name.replace('_', '-')}" for name in RECIPE_OPTIONS if getattr(args, name)]
-        if given:
-            raise _bad(given[0], "cannot change a resumed run's recipe; start a new run instead")
-        run_dir = Path(args.resume)
-        if not run_dir.is_dir():
-            raise _bad("--resume", f"no run folder {str(run_dir)!r}")
-        _trusted("--resume", run_dir, args.trust_pickles)
-        env_id, hyperparams = _resumed_config(run_dir)
-        source = f"{run_dir / CONFIG_FILE}"
-        record, history = _run_history(run_dir)
-        settings.update(
-            {
-                k: v
-                for k, v in (record.get("settings") or record.get("args") or {}).items()
-                if k in DEFAULT_SETTINGS and v is not None
-            }
-        )
-        try:
-            model_path, vecnorm_path = latest_model(run_dir)
-        except (FileNotFoundError, ValueError) as error:
-            raise _bad("--resume", str(error)) from None
-        segment = max(len(history.get("segments", [])), 1 if history else 0)
-    else:
-        config_path = Path(args.config) if args.config else DEFAULT_CONFIG
-        if not config_path.is_file():
-            raise _bad("--config", f"no such file {str(config_path)!r}")
-        env_id = args.env or _only_entry(config_path) or ACL_CLIMB_SEA_ID
-        try:
-            hyperparams = load_hyperparams(config_path, env_id)
-        except KeyError as error:
-            raise _bad("--env", str(error.args[0])) from None
-        except RecipeError as error:
-            raise _bad("--config", str(error)) from None
-        except (yaml.YAMLError, ValueError, TypeError, AttributeError) as error:
-            raise _bad("--config", f"{config_path} is not a zoo config ({error})") from None
-        source = f"{config_path} entry {env_id}"
-        run_dir, model_path, vecnorm_path, history, segment = None, None, None, {}, 0
-        if args.exp_name and not args.exp_name.replace("-", "").replace("_", "").isalnum():
-            raise _bad("--exp-name", f"letters, digits, '-' and '_' only, got {args.exp_name!r}")
-    # Where the run writes, the default too: a folder that cannot be written fails now.
+@dataclass
+class _Start:
+    """Where a segment starts: its recipe (and where it was read, for messages) and, for a
+    resume, the run it continues, that run's newest model and statistics and its history."""
+
+    env_id: str
+    hyperparams: dict[str, Any]
+    source: str
+    run_dir: Path | None = None
+    model_path: Path | None = None
+    vecnorm_path: Path | None = None
+    history: dict[str, Any] = field(default_factory=dict)
+    segment: int = 0
+
+
+def _resumed_start(args: argparse.Namespace, settings: dict[str, Any]) -> _Start:
+    """The run ``--resume`` continues, checked; ``settings`` updated with the run's own."""
+    given = [f"--{name.replace('_', '-')}" for name in RECIPE_OPTIONS if getattr(args, name)]
+    if given:
+        raise _bad(given[0], "cannot change a resumed run's recipe; start a new run instead")
+    run_dir = Path(args.resume)
+    if not run_dir.is_dir():
+        raise _bad("--resume", f"no run folder {str(run_dir)!r}")
+    _trusted("--resume", run_dir, args.trust_pickles)
+    env_id, hyperparams = _resumed_config(run_dir)
+    record, history = _run_history(run_dir)
+    settings.update(
+        {
+            k: v
+            for k, v in (record.get("settings") or record.get("args") or {}).items()
+            if k in DEFAULT_SETTINGS and v is not None
+        }
+    )
+    try:
+        model_path, vecnorm_path = latest_model(run_dir)
+    except (FileNotFoundError, ValueError) as error:
+        raise _bad("--resume", str(error)) from None
+    return _Start(
+        env_id,
+        hyperparams,
+        f"{run_dir / CONFIG_FILE}",
+        run_dir,
+        model_path,
+        vecnorm_path,
+        history,
+        segment=max(len(history.get("segments", [])), 1 if history else 0),
+    )
+
+
+def _new_start(args: argparse.Namespace) -> _Start:
+    """The recipe of a new run: ``--config``'s entry for ``--env`` (or their defaults)."""
+    config_path = Path(args.config) if args.config else DEFAULT_CONFIG
+    if not config_path.is_file():
+        raise _bad("--config", f"no such file {str(config_path)!r}")
+    env_id = args.env or _only_entry(config_path) or ACL_CLIMB_SEA_ID
+    try:
+        hyperparams = load_hyperparams(config_path, env_id)
+    except KeyError as error:
+        raise _bad("--env", str(error.args[0])) from None
+    except RecipeError as error:
+        raise _bad("--config", str(error)) from None
+    except (yaml.YAMLError, ValueError, TypeError, AttributeError) as error:
+        raise _bad("--config", f"{config_path} is not a zoo config ({error})") from None
+    if args.exp_name and not args.exp_name.replace("-", "").replace("_", "").isalnum():
+        raise _bad("--exp-name", f"letters, digits, '-' and '_' only, got {args.exp_name!r}")
+    return _Start(env_id, hyperparams, f"{config_path} entry {env_id}")
+
+
+def _run_parent(args: argparse.Namespace, run_dir: Path | None) -> Path:
+    """The parent of a new run's folder; where the run writes, the default too, and a resumed
+    run's folder: a folder that cannot be written fails now."""
     run_parent = Path(args.run_dir or "runs")
     try:
         if run_dir is not None:
@@ -314,11 +337,18 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
             run_parent = cli.output_folder(str(run_parent))
     except (ValueError, argparse.ArgumentTypeError) as error:
         raise _bad("--resume" if args.resume else "--run-dir", str(error)) from None
-    for name in DEFAULT_SETTINGS:
-        if getattr(args, name) is not None:
-            settings[name] = getattr(args, name)
+    return run_parent
 
-    check_hyperparams(hyperparams, source)
+
+def _override_recipe(
+    start: _Start,
+    args: argparse.Namespace,
+    hyperparam_overrides: dict[str, Any],
+    env_kwarg_overrides: dict[str, Any],
+) -> dict[str, Any]:
+    """The start's recipe, checked, with the command line's overrides, checked again."""
+    hyperparams = start.hyperparams
+    check_hyperparams(hyperparams, start.source)
     if hyperparam_overrides:
         if "env_kwargs" in hyperparam_overrides:
             raise _bad("--hyperparams", "set env kwargs with --env-kwargs")
@@ -335,8 +365,15 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
         hyperparams["n_envs"] = args.n_envs
     if args.n_timesteps is not None and not args.resume:
         hyperparams["n_timesteps"] = args.n_timesteps
-    check_hyperparams(hyperparams, source if not args.resume else f"{run_dir / CONFIG_FILE}")
+    check_hyperparams(hyperparams, start.source)
+    return hyperparams
 
+
+def _check_env_and_policy(
+    env_id: str, hyperparams: dict[str, Any], args: argparse.Namespace
+) -> warm_start.TrainedStart | None:
+    """Build the env and the policy network once, and check ``--init-from`` against them;
+    return the trained start (None without ``--init-from``)."""
     try:
         probe = check_env_kwargs(env_id, hyperparams.get("env_kwargs") or {})
     except ConfigError as error:
@@ -351,51 +388,74 @@ def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
             )
     finally:
         probe.close()
-    _check_device(str(settings["device"]))
+    return init_from
 
+
+def _resumed_steps(
+    args: argparse.Namespace, start: _Start, hyperparams: dict[str, Any], total: int
+) -> tuple[int, Path | None]:
+    """The steps a resume trains (``--n-timesteps``, or the rest of the run's ``total``), its
+    saved model checked, and the statistics the trainer reloads (the pickle beside an ``.npz``)."""
+    model_path, vecnorm_path = start.model_path, start.vecnorm_path
+    assert model_path is not None
+    _check_saved_model(model_path, vecnorm_path, normalize_kwargs(hyperparams) is not None)
+    if vecnorm_path is not None and not is_pickle(vecnorm_path):
+        # The trainer reloads the VecNormalize itself from the pickle beside the npz.
+        vecnorm_path = vecnorm_path.with_suffix(Path(VECNORMALIZE_FILE).suffix)
+        if not vecnorm_path.is_file():
+            raise _bad("--resume", f"{vecnorm_path} is missing: a resume reloads it")
+        _check_saved_model(model_path, vecnorm_path, True)
+    try:
+        trained = model_steps(model_path)
+    except ValueError as error:
+        raise _bad("--resume", str(error)) from None
+    if args.n_timesteps is not None:
+        return args.n_timesteps, vecnorm_path
+    if total - trained <= 0:
+        raise _bad(
+            "--n-timesteps",
+            f"the run has trained {trained} of its {total} steps; "
+            "pass --n-timesteps N to train N more",
+        )
+    return total - trained, vecnorm_path
+
+
+def plan_segment(args: argparse.Namespace, argv: Sequence[str]) -> Plan:
+    """Check every argument and file; raise :class:`ConfigError` naming the first bad one."""
+    settings = dict(DEFAULT_SETTINGS)
+    hyperparam_overrides = cli.pairs_to_dict("--hyperparams", args.hyperparams)
+    env_kwarg_overrides = cli.pairs_to_dict("--env-kwargs", args.env_kwargs)
+    if args.resume and args.init_from:
+        raise _bad("--init-from", "a resumed run continues its own policy; start a new run")
+    start = _resumed_start(args, settings) if args.resume else _new_start(args)
+    run_parent = _run_parent(args, start.run_dir)
+    for name in DEFAULT_SETTINGS:
+        if getattr(args, name) is not None:
+            settings[name] = getattr(args, name)
+    hyperparams = _override_recipe(start, args, hyperparam_overrides, env_kwarg_overrides)
+    init_from = _check_env_and_policy(start.env_id, hyperparams, args)
+    _check_device(str(settings["device"]))
     total = int(hyperparams["n_timesteps"])
     if args.resume:
-        assert model_path is not None
-        _check_saved_model(model_path, vecnorm_path, normalize_kwargs(hyperparams) is not None)
-        if vecnorm_path is not None and not is_pickle(vecnorm_path):
-            # The trainer reloads the VecNormalize itself from the pickle beside the npz.
-            vecnorm_path = vecnorm_path.with_suffix(Path(VECNORMALIZE_FILE).suffix)
-            if not vecnorm_path.is_file():
-                raise _bad("--resume", f"{vecnorm_path} is missing: a resume reloads it")
-            _check_saved_model(model_path, vecnorm_path, True)
-        try:
-            trained = model_steps(model_path)
-        except ValueError as error:
-            raise _bad("--resume", str(error)) from None
-        if args.n_timesteps is not None:
-            segment_steps = args.n_timesteps
-        else:
-            segment_steps = total - trained
-            if segment_steps <= 0:
-                raise _bad(
-                    "--n-timesteps",
-                    f"the run has trained {trained} of its {total} steps; "
-                    "pass --n-timesteps N to train N more",
-                )
+        segment_steps, vecnorm_path = _resumed_steps(args, start, hyperparams, total)
     else:
-        segment_steps = total
-
+        segment_steps, vecnorm_path = total, start.vecnorm_path
     return Plan(
-        env_id=env_id,
+        env_id=start.env_id,
         hyperparams=hyperparams,
         settings=settings,
-        segment=segment,
+        segment=start.segment,
         segment_steps=segment_steps,
-        run_dir=run_dir,
+        run_dir=start.run_dir,
         run_parent=run_parent,
         exp_name=args.exp_name or "ppo",
         progress_bar=not args.no_progress_bar,
         argv=list(argv),
         args={k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()},
-        resume_model=model_path,
+        resume_model=start.model_path,
         resume_vecnormalize=vecnorm_path,
         init_from=init_from,
-        history=history,
+        history=start.history,
     )
 
 

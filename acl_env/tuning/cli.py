@@ -215,52 +215,17 @@ def make_parser() -> ArgumentParser:
 
 def settings_from_args(args: argparse.Namespace) -> TuneSettings:
     """Validated settings; bad input raises :class:`UsageError` naming the argument."""
-    if args.objective not in OBJECTIVES:
-        raise UsageError("--objective", f"unknown {args.objective!r}; known: {list(OBJECTIVES)}")
-    if not 0.0 <= args.max_clipped <= 1.0:
-        raise UsageError("--max-clipped", f"must be in [0, 1], got {args.max_clipped}")
-    max_arc = args.max_arc if args.max_arc is not None else (90.0 if args.no_roll else None)
-    if max_arc is not None and not 0.0 < max_arc <= 360.0:
-        raise UsageError("--max-arc", f"must be in (0, 360] degrees, got {max_arc}")
-    if len(set(args.seeds)) != len(args.seeds):
-        raise UsageError("--seeds", f"repeated seeds {args.seeds}")
+    max_arc = _checked_limits(args)
     env_id = args.env or (ACL_CLIMB_NOROLL_ID if args.no_roll else ACL_CLIMB_ID)
     if env_id not in gymnasium.registry or not env_id.startswith("acl_env/"):
         known = [k for k in gymnasium.registry if k.startswith("acl_env/")]
         raise UsageError("--env", f"unknown env {env_id!r}; known: {known}")
-    if args.reward_weights is None:
-        try:
-            hyperparams = load_hyperparams(args.config, env_id)
-        except (OSError, KeyError, ValueError, TypeError, AttributeError, yaml.YAMLError) as exc:
-            message = str(exc).splitlines()[0]
-            where = "" if args.config in message else f"{args.config} entry {env_id}: "
-            raise UsageError("--config", f"{where}{message}") from None
-        if not isinstance(hyperparams, dict):
-            raise UsageError("--config", f"{args.config} entry {env_id} is not a mapping")
-        check_recipe(hyperparams, env_id, f"{args.config} entry {env_id}")
-        # The entry's reward, else the one the env registers (a benchmark id's entry holds
-        # only its domain randomisation): the reward the recipe trains on.
-        registered = (gymnasium.spec(env_id).kwargs or {}).get("reward_weights") or {}
-        entry = (hyperparams.get("env_kwargs") or {}).get("reward_weights")
-        weights = dict(entry if entry is not None else registered)
-    else:
-        try:
-            weights = pairs_to_dict("--reward-weights", args.reward_weights)
-        except argparse.ArgumentTypeError as exc:
-            raise UsageError("--reward-weights", str(exc).split(": ", 1)[1]) from None
+    weights = _reward_weights(args, env_id)
     _check_env(env_id, "--reward-weights", reward_weights=weights)
     _check_env(env_id, "--steps-per-cycle", steps_per_cycle=args.steps_per_cycle)
     _check_env(env_id, "--cycles", cycles_per_episode=args.cycles)
     condition = parse_condition(args.condition)
-    radii = condition.get("pole_radius", DEFAULT_POLE_RADIUS)
-    # the thinnest pole leaves the least helix radius for the radial wave
-    space = parse_space(args.space, min(radii) if isinstance(radii, list) else radii)
-    if args.grip:
-        for option, given in (("--space", args.space), ("--start-from", args.start_from)):
-            if given:
-                raise UsageError(option, "searches the gait; --grip holds the env's gait fixed")
-        _check_env(env_id, "--grip", grip_target=0.0)  # the SEA, and a gait to adapt
-        space = dict(GRIP_SPACE)
+    space = _search_space(args, env_id, condition)
     settings = TuneSettings(
         env_id=env_id,
         objective=args.objective,
@@ -278,6 +243,61 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
     for values in settings.conditions():  # the env checks the condition's values
         _check_env(env_id, "--condition", **values)
     return settings
+
+
+def _checked_limits(args: argparse.Namespace) -> float | None:
+    """Check the objective, ``--max-clipped``, ``--max-arc`` and ``--seeds``; return the largest
+    touched arc allowed (``--max-arc``, 90 degrees with ``--no-roll``, else None)."""
+    if args.objective not in OBJECTIVES:
+        raise UsageError("--objective", f"unknown {args.objective!r}; known: {list(OBJECTIVES)}")
+    if not 0.0 <= args.max_clipped <= 1.0:
+        raise UsageError("--max-clipped", f"must be in [0, 1], got {args.max_clipped}")
+    max_arc = args.max_arc if args.max_arc is not None else (90.0 if args.no_roll else None)
+    if max_arc is not None and not 0.0 < max_arc <= 360.0:
+        raise UsageError("--max-arc", f"must be in (0, 360] degrees, got {max_arc}")
+    if len(set(args.seeds)) != len(args.seeds):
+        raise UsageError("--seeds", f"repeated seeds {args.seeds}")
+    return max_arc
+
+
+def _reward_weights(args: argparse.Namespace, env_id: str) -> dict[str, Any]:
+    """``--reward-weights``, else the reward the recipe (``--config``'s entry) trains on."""
+    if args.reward_weights is not None:
+        try:
+            return pairs_to_dict("--reward-weights", args.reward_weights)
+        except argparse.ArgumentTypeError as exc:
+            raise UsageError("--reward-weights", str(exc).split(": ", 1)[1]) from None
+    try:
+        hyperparams = load_hyperparams(args.config, env_id)
+    except (OSError, KeyError, ValueError, TypeError, AttributeError, yaml.YAMLError) as exc:
+        message = str(exc).splitlines()[0]
+        where = "" if args.config in message else f"{args.config} entry {env_id}: "
+        raise UsageError("--config", f"{where}{message}") from None
+    if not isinstance(hyperparams, dict):
+        raise UsageError("--config", f"{args.config} entry {env_id} is not a mapping")
+    check_recipe(hyperparams, env_id, f"{args.config} entry {env_id}")
+    # The entry's reward, else the one the env registers (a benchmark id's entry holds
+    # only its domain randomisation): the reward the recipe trains on.
+    registered = (gymnasium.spec(env_id).kwargs or {}).get("reward_weights") or {}
+    entry = (hyperparams.get("env_kwargs") or {}).get("reward_weights")
+    return dict(entry if entry is not None else registered)
+
+
+def _search_space(
+    args: argparse.Namespace, env_id: str, condition: dict[str, Any]
+) -> dict[str, Any]:
+    """``--space`` over the gait's parameters, or with ``--grip`` the grip's (the env's gait
+    held fixed)."""
+    radii = condition.get("pole_radius", DEFAULT_POLE_RADIUS)
+    # the thinnest pole leaves the least helix radius for the radial wave
+    space = parse_space(args.space, min(radii) if isinstance(radii, list) else radii)
+    if args.grip:
+        for option, given in (("--space", args.space), ("--start-from", args.start_from)):
+            if given:
+                raise UsageError(option, "searches the gait; --grip holds the env's gait fixed")
+        _check_env(env_id, "--grip", grip_target=0.0)  # the SEA, and a gait to adapt
+        space = dict(GRIP_SPACE)
+    return space
 
 
 def _check_env(env_id: str, option: str, **kwargs: Any) -> None:
@@ -300,47 +320,10 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     key = args.key or ("acl_noroll" if args.no_roll else "acl")
     study_name = args.study_name or key
     try:
-        settings = settings_from_args(args)
-        output = check_output_file(args.output)
-        plot = check_plot(args.plot, key)
-        check_storage(args.storage)
-        policies = _policy_points(args.policy_point)
-        others = _other_studies(args.storage, args.also_plot, args.heartbeat)
-        database = sqlite_path(args.storage)
-        new_file = database is not None and not database.exists()
-        try:  # last: it creates the study (and a new SQLite file)
-            starts = start_points(args.start_from, settings.space)
-            prepare_study(settings, args.storage, study_name, args.heartbeat, starts)
-        except UsageError:
-            if new_file and database is not None:
-                database.unlink(missing_ok=True)
-            raise
+        settings, output, plot, policies, others = _prepare(args, key, study_name)
     except UsageError as exc:
         parser.error(str(exc))
-    previous = catch_stop_signals()
-    try:
-        study = run_study(
-            settings,
-            args.storage,
-            study_name,
-            args.n_trials,
-            args.n_jobs,
-            args.sampler_seed,
-            progress=not args.no_progress_bar,
-            heartbeat=args.heartbeat,
-        )
-    except KeyboardInterrupt:
-        print(
-            f"acl-tune-gait: interrupted; the finished trials are in {args.storage}: rerun the "
-            "same command to resume (nothing written)",
-            file=sys.stderr,
-        )
-        raise SystemExit(130) from None
-    except RuntimeError as exc:
-        print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
-        raise SystemExit(1) from None
-    finally:
-        restore_signals(previous)
+    study = _tune(args, settings, study_name)
     try:
         chosen, validation = validate(study, settings, args.validate_top, args.validate_seeds)
     except RuntimeError as exc:
@@ -367,6 +350,59 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     if plot is not None and image is not None:
         print(f"frontier figure: {plot}")
     return entry
+
+
+def _prepare(
+    args: argparse.Namespace, key: str, study_name: str
+) -> tuple[TuneSettings, Path, Path | None, list[tuple[str, dict[str, float]]], list[optuna.Study]]:
+    """Check every option, then create (or open) the study: the settings, the output file, the
+    figure of ``key`` (None: not drawn), the policy points and the other studies drawn. A
+    refused option raises :class:`UsageError`, and leaves no new SQLite file behind."""
+    settings = settings_from_args(args)
+    output = check_output_file(args.output)
+    plot = check_plot(args.plot, key)
+    check_storage(args.storage)
+    policies = _policy_points(args.policy_point)
+    others = _other_studies(args.storage, args.also_plot, args.heartbeat)
+    database = sqlite_path(args.storage)
+    new_file = database is not None and not database.exists()
+    try:  # last: it creates the study (and a new SQLite file)
+        starts = start_points(args.start_from, settings.space)
+        prepare_study(settings, args.storage, study_name, args.heartbeat, starts)
+    except UsageError:
+        if new_file and database is not None:
+            database.unlink(missing_ok=True)
+        raise
+    return settings, output, plot, policies, others
+
+
+def _tune(args: argparse.Namespace, settings: TuneSettings, study_name: str) -> optuna.Study:
+    """Run the study's trials, SIGTERM handled as Ctrl-C; an interruption exits 130 (the finished
+    trials stay in the storage), a failed study 1, nothing written."""
+    previous = catch_stop_signals()
+    try:
+        return run_study(
+            settings,
+            args.storage,
+            study_name,
+            args.n_trials,
+            args.n_jobs,
+            args.sampler_seed,
+            progress=not args.no_progress_bar,
+            heartbeat=args.heartbeat,
+        )
+    except KeyboardInterrupt:
+        print(
+            f"acl-tune-gait: interrupted; the finished trials are in {args.storage}: rerun the "
+            "same command to resume (nothing written)",
+            file=sys.stderr,
+        )
+        raise SystemExit(130) from None
+    except RuntimeError as exc:
+        print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
+        raise SystemExit(1) from None
+    finally:
+        restore_signals(previous)
 
 
 def _policy_points(given: Sequence[str]) -> list[tuple[str, dict[str, float]]]:

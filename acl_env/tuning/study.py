@@ -299,46 +299,79 @@ def run_study(
                 settings, storage, study_name, None, n_trials, seed_base, [update], heartbeat
             )
         elif remaining:
-            context = multiprocessing.get_context("spawn")
             quotas = [remaining // n_jobs + (i < remaining % n_jobs) for i in range(n_jobs)]
-            workers = [
-                context.Process(
-                    target=_worker_process,
-                    args=(settings, storage, study_name, quota, n_trials),
-                    kwargs={
-                        "seed": None if seed_base is None else seed_base + 1 + i,
-                        "heartbeat": heartbeat,
-                    },
-                )
-                for i, quota in enumerate(quotas)
-                if quota
-            ]
-            for worker in workers:
-                worker.start()
-            while any(worker.is_alive() for worker in workers):
-                time.sleep(1.0)
-                stop_point()
-                finished = len(study.get_trials(deepcopy=False, states=FINISHED))
-                bar.update(max(0, finished - bar.n))
-                bar.set_postfix_str(_best_text(study))
-            failed = [w.exitcode for w in workers if w.exitcode]
-            if failed and _finished(study) < n_trials:
-                raise RuntimeError(f"tuning workers exited with status {failed}")
+            workers = _worker_processes(
+                settings, storage, study_name, n_trials, quotas, seed_base, heartbeat
+            )
+            _watch_workers(study, workers, bar, n_trials)
             # Trials still running elsewhere (another machine): wait for them, or retry them.
             run_worker(
                 settings, storage, study_name, None, n_trials, seed_base, [update], heartbeat
             )
     except KeyboardInterrupt:
-        for worker in workers:
-            worker.terminate()  # SIGTERM: it stops at its next safe point, its trial failed
-        for worker in workers:
-            worker.join(timeout=60.0)
-            if worker.is_alive():  # stuck: its trial stays RUNNING until the heartbeat fails it
-                worker.kill()
+        _stop_workers(workers)
         raise
     finally:
         bar.close()
     return study
+
+
+def _worker_processes(
+    settings: TuneSettings,
+    storage: str,
+    study_name: str,
+    n_trials: int,
+    quotas: list[int],
+    seed_base: int | None,
+    heartbeat: int,
+) -> list[multiprocessing.process.BaseProcess]:
+    """One spawned (not yet started) worker process per non-zero quota of trials, each with its
+    own sampler seed."""
+    context = multiprocessing.get_context("spawn")
+    return [
+        context.Process(
+            target=_worker_process,
+            args=(settings, storage, study_name, quota, n_trials),
+            kwargs={
+                "seed": None if seed_base is None else seed_base + 1 + i,
+                "heartbeat": heartbeat,
+            },
+        )
+        for i, quota in enumerate(quotas)
+        if quota
+    ]
+
+
+def _watch_workers(
+    study: optuna.Study,
+    workers: list[multiprocessing.process.BaseProcess],
+    bar: tqdm,
+    n_trials: int,
+) -> None:
+    """Start the workers and follow the study on ``bar`` until they exit (a stop request raises
+    ``KeyboardInterrupt``); ``RuntimeError`` if one failed and the study is short of
+    ``n_trials``."""
+    for worker in workers:
+        worker.start()
+    while any(worker.is_alive() for worker in workers):
+        time.sleep(1.0)
+        stop_point()
+        finished = len(study.get_trials(deepcopy=False, states=FINISHED))
+        bar.update(max(0, finished - bar.n))
+        bar.set_postfix_str(_best_text(study))
+    failed = [w.exitcode for w in workers if w.exitcode]
+    if failed and _finished(study) < n_trials:
+        raise RuntimeError(f"tuning workers exited with status {failed}")
+
+
+def _stop_workers(workers: list[multiprocessing.process.BaseProcess]) -> None:
+    """Stop the workers: SIGTERM, then SIGKILL for one still alive a minute later."""
+    for worker in workers:
+        worker.terminate()  # SIGTERM: it stops at its next safe point, its trial failed
+    for worker in workers:
+        worker.join(timeout=60.0)
+        if worker.is_alive():  # stuck: its trial stays RUNNING until the heartbeat fails it
+            worker.kill()
 
 
 def _best_text(study: optuna.Study) -> str:

@@ -1,11 +1,12 @@
 """Shared test set-up: headless rendering through EGL (docs/mujoco_notes.md#headless-rendering),
-and torch's thread count restored after every test."""
+torch's thread count restored after every test, and SB3 run folders restored from git history
+(the repository keeps their pickle-free exports only)."""
 
 import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -14,6 +15,9 @@ import torch
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 TORCH_THREADS = torch.get_num_threads()  # the process default, before any test changes it
+ROOT = Path(__file__).resolve().parents[1]
+# An SB3 run folder's files, as acl-train writes them (acl_env.training.runs).
+SB3_RUN_FILES = ("model.zip", "vecnormalize.pkl", "config.yml", "args.json", "summary.json")
 
 
 @pytest.fixture(autouse=True)
@@ -87,3 +91,44 @@ def built_site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-5000:]
     return site_dir
+
+
+def _git(*args: str) -> bytes:
+    return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, check=True).stdout
+
+
+@pytest.fixture(scope="session")
+def sb3_from_history(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], Path]:
+    """A function from a folder's path in the repository (``experiments/<topic>/<run>``, a
+    shipped policy's ``acl_env/data/policies/<name>``) to that SB3 run folder as it was before its
+    pickles left the tree: ``model.zip``, ``vecnormalize.pkl`` and the run's JSON and YAML files
+    taken from git history into a folder of the same name. Skips the test where the history is
+    not here (a shallow clone, an sdist)."""
+    root = tmp_path_factory.mktemp("sb3_history")
+    restored: dict[str, Path] = {}
+
+    def restore(rel: str) -> Path:
+        if rel in restored:
+            return restored[rel]
+        try:
+            # The last commit that touched the model: it added it, or its parent had it.
+            rev = _git("rev-list", "-1", "HEAD", "--", f"{rel}/model.zip").decode().strip()
+        except (OSError, subprocess.CalledProcessError):
+            pytest.skip("no git history here")
+        if not rev:
+            pytest.skip(f"git history has no {rel}/model.zip")
+        folder = root / rel
+        folder.mkdir(parents=True)
+        for file in SB3_RUN_FILES:
+            for ref in (rev, f"{rev}^"):
+                try:
+                    (folder / file).write_bytes(_git("show", f"{ref}:{rel}/{file}"))
+                    break
+                except subprocess.CalledProcessError:
+                    continue
+            else:
+                pytest.skip(f"git history has no {rel}/{file}")
+        restored[rel] = folder
+        return folder
+
+    return restore

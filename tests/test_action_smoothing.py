@@ -111,8 +111,8 @@ def test_shipped_noroll_policy_does_not_flip_its_action(folder: Path, flips: boo
     policy = read_policy_folder(folder)
     # the policy's own (older) task version, made as its record was: quietly
     env = make_quietly(policy.env_id, **evaluation_env_kwargs(policy), cycles_per_episode=1)
-    # The repository's own SB3 folder: trusted on purpose (its files are pickles).
-    episode = run_episode(env, load_policy(policy, env, trust_pickles=True), 0)
+    # Both are pretrained folders (the experiment's SB3 run exported to numpy): no pickle loads.
+    episode = run_episode(env, load_policy(policy, env), 0)
     env.close()
     change = episode.metrics()["action_change"]
     assert episode.steps > 100 and not episode.fell

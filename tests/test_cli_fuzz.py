@@ -5,9 +5,11 @@ with status 2 before any work: exactly one line on stderr naming the option or f
 traceback, and nothing written (the work folder and the inputs unchanged).
 
 Placeholders: ``{tmp}`` an empty work folder (the outputs' place), ``{file}`` an existing plain
-file, ``{sb3}`` a real SB3 run folder, ``{crafted}`` an SB3 folder whose pickles would create a
-marker file, ``{record}`` an evaluation record, ``{pretrained}`` a shipped numpy policy,
-``{yaml}`` a file that is not YAML, ``{big}`` a 400-digit integer.
+file, ``{sb3}`` a real SB3 run folder (an experiment's run, restored from git history: the
+repository keeps only its numpy export; the cases that name it skip without that history),
+``{crafted}`` an SB3 folder whose pickles would create a marker file, ``{record}`` an evaluation
+record, ``{pretrained}`` a shipped numpy policy, ``{yaml}`` a file that is not YAML, ``{big}`` a
+400-digit integer.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from acl_env.evaluation import compare, export
 from acl_env.training import curves, runs, trainer
 
 ROOT = Path(__file__).resolve().parents[1]
-SB3 = ROOT / "experiments" / "noroll_v3" / "noroll_v3_seed1"
+SB3_RUN = "experiments/noroll_v3/noroll_v3_seed1"
 RECORD = ROOT / "docs" / "eval_noroll.json"
 BIG = "9" * 400
 
@@ -225,10 +227,15 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
         "yaml": folder / "bad.yml",
         "crafted": crafted,
         "marker": marker,
-        "sb3": SB3,
         "record": RECORD,
         "pretrained": shipped.policy_dir(),
     }
+
+
+@pytest.fixture(scope="module")
+def sb3_run(sb3_from_history: Callable[[str], Path]) -> Path:
+    """A real SB3 run folder (``model.zip``, ``vecnormalize.pkl``), from git history."""
+    return sb3_from_history(SB3_RUN)
 
 
 def _tree(folder: Path) -> list[tuple[str, float]]:
@@ -245,13 +252,18 @@ def test_a_bad_command_line_exits_2_with_one_line_and_writes_nothing(
     inputs: dict[str, Path],
     tmp_path: Path,
     capsys: pytest.CaptureFixture[str],
+    request: pytest.FixtureRequest,
 ) -> None:
     work = tmp_path / "work"
     work.mkdir()
+    # Only the cases that name it need the SB3 run (and skip where git history lacks it).
+    sb3 = [request.getfixturevalue("sb3_run")] if any("{sb3}" in arg for arg in argv) else []
     fields = {k: str(v) for k, v in inputs.items()} | {"tmp": str(work), "big": BIG}
+    if sb3:
+        fields["sb3"] = str(sb3[0])
     args = [arg.format(**fields) for arg in argv]
     main = COMMANDS[command][0]
-    watched = [work, inputs["file"].parent, SB3]
+    watched = [work, inputs["file"].parent, *sb3]
     before = [_tree(folder) for folder in watched]
     with pytest.raises(SystemExit) as exit_info:
         main(args)
@@ -267,4 +279,7 @@ def test_a_bad_command_line_exits_2_with_one_line_and_writes_nothing(
 def test_a_record_is_json_the_cases_can_read() -> None:
     """The fixture files are what the cases assume."""
     assert json.loads(RECORD.read_text())["controllers"]
-    assert (SB3 / runs.MODEL_FILE).is_file() and (SB3 / runs.VECNORMALIZE_FILE).is_file()
+
+
+def test_the_sb3_run_has_its_pickles(sb3_run: Path) -> None:
+    assert (sb3_run / runs.MODEL_FILE).is_file() and (sb3_run / runs.VECNORMALIZE_FILE).is_file()

@@ -482,9 +482,9 @@ def test_noroll_policy_replays_its_published_evaluation(
     record = json.loads((root / record_path).read_text())
     # Records name the policy where it was when they were made (train/policies/...): by its name.
     assert Path(record["policy"]).name == folder.name
-    policy = baselines.read_policy(folder)  # the shipped one pretrained, the others SB3 folders
-    # The experiment folders are this repository's own SB3 runs: their pickles are trusted.
-    controllers, _ = baselines.build_controllers(policy, {}, None, TUNED_GAITS, trust_pickles=True)
+    # All pretrained (numpy) folders: the experiments' SB3 runs are exported in place.
+    policy = baselines.read_policy(folder)
+    controllers, _ = baselines.build_controllers(policy, {}, None, TUNED_GAITS)
     by_name = {c.name: c for c in controllers}
     climbs = {}
     for name in ("policy", gait):

@@ -1,8 +1,9 @@
 """Pretrained policies (:mod:`acl_env.pretrained`): pickle-free files, numpy alone, and the same
 deterministic actions as the SB3 policy they were exported from (:mod:`acl_env.evaluation.export`).
 
-The shipped policies' SB3 files are not shipped; the tests that compare against them take them
-from the git history (skipped where there is none, e.g. in a shallow clone or an sdist).
+The shipped policies' SB3 files are not shipped, and the experiments keep only their runs'
+exports; the tests that compare against the SB3 files take them from the git history
+(``conftest.sb3_from_history``; skipped where there is none, e.g. in a shallow clone or an sdist).
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import pickle
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import gymnasium as gym
@@ -24,46 +26,21 @@ from acl_env.evaluation import baselines, export, records
 from acl_env.evaluation import cli as evaluate_cli
 
 ROOT = Path(__file__).resolve().parents[1]
-SB3_FILES = ("model.zip", "vecnormalize.pkl", "config.yml", "args.json", "summary.json")
-# SB3 folders of the repository's experiments: one with the cadence action, one non-rolling.
-EXPERIMENT_FOLDERS = [
-    ROOT / "experiments" / "acl_cadence" / "acl_cadence_tuned_gait",
-    ROOT / "experiments" / "noroll_v3" / "noroll_v3_seed1",
+# SB3 runs of the repository's experiments, exported in place: one with the cadence action, one
+# non-rolling.
+EXPERIMENT_RUNS = [
+    "experiments/acl_cadence/acl_cadence_tuned_gait",
+    "experiments/noroll_v3/noroll_v3_seed1",
 ]
 STEPS = 300  # observations per policy, from rollouts of its own env
 
 
-def _git(*args: str) -> bytes:
-    return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, check=True).stdout
-
-
 @pytest.fixture(scope="module")
-def sb3_shipped(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+def sb3_shipped(sb3_from_history: Callable[[str], Path]) -> dict[str, Path]:
     """The shipped policies' SB3 folders as they were before the export, from git history."""
-    folders = {}
-    root = tmp_path_factory.mktemp("sb3")
-    for name in shipped.list_policies():
-        rel = f"acl_env/data/policies/{name}"
-        try:
-            # The last commit that touched the model: it added it, or its parent had it.
-            rev = _git("rev-list", "-1", "HEAD", "--", f"{rel}/model.zip").decode().strip()
-        except (OSError, subprocess.CalledProcessError):
-            pytest.skip("no git history here")
-        if not rev:
-            pytest.skip(f"git history has no {rel}/model.zip")
-        folder = root / name
-        folder.mkdir()
-        for file in SB3_FILES:
-            for ref in (rev, f"{rev}^"):
-                try:
-                    (folder / file).write_bytes(_git("show", f"{ref}:{rel}/{file}"))
-                    break
-                except subprocess.CalledProcessError:
-                    continue
-            else:
-                pytest.skip(f"git history has no {rel}/{file}")
-        folders[name] = folder
-    return folders
+    return {
+        name: sb3_from_history(f"acl_env/data/policies/{name}") for name in shipped.list_policies()
+    }
 
 
 def _observations(policy: pretrained.PretrainedPolicy, seed: int = 0) -> np.ndarray:
@@ -116,21 +93,34 @@ def test_shipped_policy_is_the_export_of_its_sb3_policy(
     """Exported again from the SB3 files it was made from, the shipped policy gives SB3's
     deterministic actions to 1e-5, and its arrays and metadata are that export's."""
     policy = _assert_exports_exactly(sb3_shipped[name], tmp_path / name, name)
-    ship = pretrained.load_policy(name)
+    _assert_same_export(pretrained.load_policy(name), policy)
+
+
+def _assert_same_export(
+    kept: pretrained.PretrainedPolicy, fresh: pretrained.PretrainedPolicy
+) -> None:
+    """The arrays and metadata of a committed export are those of a fresh one (but for the
+    published record's summary and the exporting versions)."""
     with (
-        np.load(ship.path / pretrained.WEIGHTS_FILE) as shipped_npz,
-        np.load(policy.path / pretrained.WEIGHTS_FILE) as fresh_npz,
+        np.load(kept.path / pretrained.WEIGHTS_FILE) as kept_npz,
+        np.load(fresh.path / pretrained.WEIGHTS_FILE) as fresh_npz,
     ):
-        assert shipped_npz.files == fresh_npz.files
-        for key in shipped_npz.files:
-            assert np.array_equal(shipped_npz[key], fresh_npz[key]), key
-    differ = {k for k in ship.metadata if ship.metadata[k] != policy.metadata.get(k)}
+        assert kept_npz.files == fresh_npz.files
+        for key in kept_npz.files:
+            assert np.array_equal(kept_npz[key], fresh_npz[key]), key
+    differ = {k for k in kept.metadata if kept.metadata[k] != fresh.metadata.get(k)}
     assert differ <= {"evaluation", "exported_with"}, differ
 
 
-@pytest.mark.parametrize("folder", EXPERIMENT_FOLDERS, ids=lambda p: p.name)
-def test_export_gives_the_sb3_policys_deterministic_actions(folder: Path, tmp_path: Path) -> None:
-    _assert_exports_exactly(folder, tmp_path / folder.name, folder.name)
+@pytest.mark.parametrize("rel", EXPERIMENT_RUNS, ids=lambda rel: Path(rel).name)
+def test_export_gives_the_sb3_policys_deterministic_actions(
+    rel: str, sb3_from_history: Callable[[str], Path], tmp_path: Path
+) -> None:
+    """Exported again from its SB3 run (git history), an experiment's run gives SB3's
+    deterministic actions, and the export committed beside the run's files is that export."""
+    name = Path(rel).name
+    policy = _assert_exports_exactly(sb3_from_history(rel), tmp_path / name, name)
+    _assert_same_export(pretrained.load_policy(ROOT / rel), policy)
 
 
 @pytest.mark.parametrize("name", shipped.list_policies())
@@ -323,13 +313,15 @@ def test_acl_evaluate_takes_a_shipped_name_or_a_folder(
     assert "--policy" in err and "policy.npz" in err
 
 
-def test_the_export_names_the_commands_that_resumed_its_run(tmp_path: Path) -> None:
+def test_the_export_names_the_commands_that_resumed_its_run(
+    tmp_path: Path, sb3_from_history: Callable[[str], Path]
+) -> None:
     """A resumed run's steps come from its first command and its resumes: policy.json names
     both, so that the command alone is not mistaken for the whole training."""
     from acl_env.training.policy import read_sb3_folder
 
     folder = tmp_path / "run"
-    shutil.copytree(EXPERIMENT_FOLDERS[1], folder)
+    shutil.copytree(sb3_from_history(EXPERIMENT_RUNS[1]), folder)
     args = json.loads((folder / "args.json").read_text())
     assert export.training_summary(read_sb3_folder(folder), 1, None).get("resumed_with") is None
     args["resumes"] = [{"argv": ["--resume", "runs/x", "--trust-pickles", "--n-timesteps", "5"]}]
@@ -339,9 +331,11 @@ def test_the_export_names_the_commands_that_resumed_its_run(tmp_path: Path) -> N
     assert summary["resumed_with"] == ["acl-train --resume runs/x --trust-pickles --n-timesteps 5"]
 
 
-def test_the_exporter_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_exporter_command_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], sb3_from_history: Callable[[str], Path]
+) -> None:
     """It writes both files and prints them; a folder without SB3 files is refused in one line."""
-    source, out = EXPERIMENT_FOLDERS[1], tmp_path / "out"
+    source, out = sb3_from_history(EXPERIMENT_RUNS[1]), tmp_path / "out"
     record = ROOT / "docs" / "eval_noroll.json"
     export.main(
         [str(source), str(out), "--name", "seed1", "--record", str(record), "--trust-pickles"]

@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 
 from acl_env.actuators import ACTUATOR_MODELS, DEFAULT_MODEL
-from acl_env.actuators.base import ActuatorSetting
+from acl_env.actuators.base import ActuatorConfig
 from acl_env.constants import (
     CONTACT_TIMECONST,
     DEFAULT_FRICTION,
@@ -78,7 +78,7 @@ def build_spec(
     kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
     timestep: float = PHYSICS_TIMESTEP,
-    actuators: ActuatorSetting | None = None,
+    actuators: ActuatorConfig | None = None,
 ) -> mujoco.MjSpec:
     """The scene with an ``n_joints`` SEA snake, as an editable spec; ``actuators`` (default: the
     ideal servo of stiffness ``kp``) picks the joint actuators (:mod:`acl_env.actuators`)."""
@@ -125,7 +125,7 @@ def build_spec(
     # straight along x from the origin: shift the scene's offset by that straight-body COM.
     camera = spec.camera(TRACK_CAMERA)
     camera.pos = [camera.pos[0] + half * (n_joints + 1), camera.pos[1], camera.pos[2]]
-    (actuators or ActuatorSetting(ACTUATOR_MODELS[DEFAULT_MODEL])).configure(spec, n_joints)
+    (actuators or ActuatorConfig(ACTUATOR_MODELS[DEFAULT_MODEL])).configure(spec, n_joints)
     return spec
 
 
@@ -136,7 +136,7 @@ def build_model(
     kp: float = DEFAULT_KP,
     module_length: float = SEA_MODULE_LENGTH,
     timestep: float = PHYSICS_TIMESTEP,
-    actuators: ActuatorSetting | None = None,
+    actuators: ActuatorConfig | None = None,
 ) -> mujoco.MjModel:
     """Compile the scene with an ``n_joints`` SEA snake (see :func:`build_spec`)."""
     spec = build_spec(n_joints, pole_radius, friction, kp, module_length, timestep, actuators)

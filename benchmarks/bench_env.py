@@ -54,7 +54,7 @@ def env_vs_raw(steps: int, rounds: int, env_id: str = ACL_CLIMB_ID) -> dict[str,
         for k in range(steps):
             mujoco.mj_getState(model, data, state, STATE)
             target = np.clip(env._base_target(), -np.pi / 2, np.pi / 2)  # the zero residual
-            if env.phase_rate_range is not None:
+            if env.config.gait.phase_rate_range is not None:
                 action[-1] = 0.0  # cadence 1: the table row
             env_first = (k + r) % 2 == 0
             for side in ("env", "raw") if env_first else ("raw", "env"):

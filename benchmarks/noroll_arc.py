@@ -35,13 +35,9 @@ import numpy as np
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, cli
 from acl_env.evaluation import Episode
-from acl_env.evaluation.baselines import (
-    DEFAULT_TUNED_GAITS,
-    Controller,
-    evaluation_env_kwargs,
-    tuned_gait,
-)
+from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, Controller
 from acl_env.evaluation.runner import evaluate
+from acl_env.evaluation.tasks import evaluation_env_kwargs, tuned_gait
 from acl_env.scripts import (
     RUNS,
     add_trust_pickles,

@@ -26,7 +26,7 @@ from tqdm import tqdm
 from acl_env import cli, shipped
 from acl_env.envs.grip import GRIP_RANGE
 from acl_env.envs.observations import env_observation_names
-from acl_env.evaluation import baselines
+from acl_env.evaluation import baselines, tasks
 from acl_env.evaluation.protocol import (
     Episode,
     format_paired,
@@ -54,16 +54,18 @@ class PhaseSums:
 
     def __init__(self, env: Any) -> None:
         base = env.unwrapped  # an ACLClimbEnv: its options, action and observation names
-        sections = base.modulation_sections
+        sections = base.config.gait.modulation_sections
         self.count = np.zeros(BINS)
         self.slip, self.climb = np.zeros(BINS), np.zeros(BINS)
         self.target, self.offset = np.zeros((BINS, sections)), np.zeros((BINS, sections))
         self.residual, self.rate = np.zeros(BINS), np.zeros(BINS)
         self.episodes: list[Episode] = []  # as acl-evaluate measures them
         self.keyframes, self.steps_per_cycle = 0.0, base.steps_per_cycle
-        self.n_joints, self.residual_scale = base.n_joints, base.residual_scale
+        self.n_joints, self.residual_scale = base.n_joints, base.config.gait.residual_scale
         # The grip's target and offsets, as the policy sets and observes them (None: no grip)
-        self.grip_target, self.grip_scale = base.grip_target, base.grip_action_scale or 0.0
+        grip = base.config.grip
+        self.grip_target = None if grip is None else grip.target
+        self.grip_scale = 0.0 if grip is None else grip.action_scale
         self.grip_actions = [i for i, n in enumerate(base.action_names) if n.startswith("grip_")]
         names = env_observation_names(base)
         first = names.index("grip_offset_0") if "grip_offset_0" in names else 0
@@ -202,7 +204,7 @@ def main(argv: list[str] | None = None) -> dict:
     summaries = {name: summarize(sums.episodes) for name, sums in results.items()}
     document = {
         "env_id": folder.env_id,
-        "policy_dir": baselines.shown_path(args.policy),
+        "policy_dir": tasks.shown_path(args.policy),
         "seeds": seed_list,
         "phase_rate": rate,
         "shown": list(shown),

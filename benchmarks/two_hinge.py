@@ -46,10 +46,16 @@ def two_hinge_model(env: Any) -> mujoco.MjModel:
     """The env's scene with a motor hinge beside every joint (see the module docstring)."""
     n = env.n_joints
     # plain position actuators (the default servo), turned into the motors below
-    spec = build_spec(n, env.pole_radius, env.friction, timestep=env.timestep)
+    spec = build_spec(
+        n,
+        env.config.physics.pole_radius,
+        env.config.physics.friction,
+        timestep=env.config.physics.timestep,
+    )
+    latency = env.config.actuator.values["control_latency"]
     for j in range(n):
         spring = spec.joint(joint_name(j))
-        spring.stiffness[0] = env.spring_stiffness
+        spring.stiffness[0] = env.config.actuator.values["spring_stiffness"]
         spring.damping[0] = sea.SPRING_DAMPING
         motor = spec.body(link_name(j + 1)).add_joint(
             name=f"motor_{j}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=spring.axis
@@ -60,12 +66,12 @@ def two_hinge_model(env: Any) -> mujoco.MjModel:
         actuator.set_to_pid(
             kp=MOTOR_KP,
             dampratio=1.0,
-            slewmax=env.motor_speed_limit,
+            slewmax=env.config.actuator.values["motor_speed_limit"],
             ctrlspec=int(mujoco.mjtCtrlInput.mjINPUT_POS),
         )
         actuator.forcerange = [-PEAK_TORQUE, PEAK_TORQUE]
-        actuator.nsample = sea.history_samples(env.control_latency, env.timestep)
-        actuator.delay = env.control_latency
+        actuator.nsample = sea.history_samples(latency, env.config.physics.timestep)
+        actuator.delay = latency
     return spec.compile()
 
 

@@ -105,7 +105,7 @@ def test_shipped_noroll_policy_does_not_flip_its_action(folder: Path, flips: boo
     (README, "Chatter"). The shipped recipe's action-rate term keeps the policy smooth."""
 
     from acl_env.evaluation import run_episode
-    from acl_env.evaluation.baselines import evaluation_env_kwargs
+    from acl_env.evaluation.tasks import evaluation_env_kwargs
     from acl_env.training.policy import load_policy, read_policy_folder
 
     policy = read_policy_folder(folder)

@@ -87,14 +87,16 @@ def test_sea_rotor_builds_a_rotor_behind_each_spring() -> None:
     assert model.nq == 7 + 2 * n  # the snake's joints first, then the motors
     assert motor_qpos(model, n) == slice(7 + n, 7 + 2 * n)
     np.testing.assert_allclose(model.dof_armature[6 + n :], ROTOR_INERTIA)
-    np.testing.assert_allclose(model.tendon_stiffness, env.spring_stiffness)
+    np.testing.assert_allclose(
+        model.tendon_stiffness, env.config.actuator.values["spring_stiffness"]
+    )
     np.testing.assert_allclose(model.actuator_biasprm[:, 1], -MOTOR_KP)
     obs, *_ = env.step(np.zeros(env.action_space.shape))
     assert obs.shape == env.observation_space.shape and np.isfinite(obs).all()
     # The torque observed is the spring's: -stiffness x the tendon's length, to one count.
     deflection = env.data.ten_length
     torque = obs[2 * n : 3 * n]
-    assert np.abs(torque + env.spring_stiffness * deflection).max() < 0.2
+    assert np.abs(torque + env.config.actuator.values["spring_stiffness"] * deflection).max() < 0.2
     env.close()
 
 
@@ -106,7 +108,7 @@ def test_sea_rotor_randomises_its_springs_and_runs_the_compliant_grip() -> None:
     env.reset(seed=3)
     low, high = default_randomization("sea_rotor")["spring_stiffness"]
     stiffness = float(env.model.tendon_stiffness[0])
-    assert low <= stiffness <= high and stiffness != env.spring_stiffness
+    assert low <= stiffness <= high and stiffness != env.config.actuator.values["spring_stiffness"]
     for _ in range(3):
         obs, reward, *_ = env.step(np.zeros(env.action_space.shape))
     assert np.isfinite(obs).all() and np.isfinite(reward)

@@ -94,12 +94,14 @@ def test_motor_speed_never_exceeds_the_limit() -> None:
 
 def test_sea_options_are_exposed_validated_and_refused_on_the_servo() -> None:
     env = gym.make(acl_env.ACL_CLIMB_SEA_ID).unwrapped
-    assert env.actuator_model == "sea"
-    assert env.spring_stiffness == SPRING_STIFFNESS
-    assert env.motor_speed_limit == MOTOR_SPEED_LIMIT
-    assert env.control_latency == 0.01 and env.sensor_latency == 0.005
+    assert env.config.actuator.model.name == "sea"
+    assert env.config.actuator.values["spring_stiffness"] == SPRING_STIFFNESS
+    assert env.config.actuator.values["motor_speed_limit"] == MOTOR_SPEED_LIMIT
+    assert env.config.actuator.values["control_latency"] == 0.01
+    assert env.config.actuator.values["sensor_latency"] == 0.005
     servo = ACLClimbEnv()
-    assert servo.actuator_model == "servo" and servo.spring_stiffness is None
+    assert servo.config.actuator.model.name == "servo"
+    assert "spring_stiffness" not in servo.config.actuator.values
     with pytest.raises(ValueError, match="spring_stiffness needs actuator_model='sea'"):
         ACLClimbEnv(spring_stiffness=20.0)
     with pytest.raises(ValueError, match="kp sets the servo's stiffness"):
@@ -131,7 +133,9 @@ def test_randomisation_draws_the_sea_parameters_into_the_model() -> None:
         seen.append((stiffness, speed, latency))
         env.step(np.zeros(env.action_space.shape))
     assert len(set(seen)) == 3
-    assert set(ACLClimbEnv(actuator_model="sea", domain_randomization=True).randomization) >= {
+    assert set(
+        ACLClimbEnv(actuator_model="sea", domain_randomization=True).config.randomization
+    ) >= {
         "spring_stiffness",
         "motor_speed_limit",
         "control_latency",

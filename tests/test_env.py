@@ -296,9 +296,9 @@ def test_domain_randomization_varies_physics_deterministically() -> None:
     for seed in (0, 1, 0):
         env.reset(seed=seed)
         radii.append(float(env.model.geom_size[env.model.geom(POLE_GEOM).id, 0]))
-        lo, hi = env.randomization["pole_radius"]
+        lo, hi = env.config.randomization["pole_radius"]
         assert lo <= radii[-1] <= hi
-        assert env.gait.radius == pytest.approx(radii[-1] + 0.0254 - env.squeeze)
+        assert env.gait.radius == pytest.approx(radii[-1] + 0.0254 - env.config.gait.squeeze)
     assert radii[0] == radii[2] != radii[1]
     for _ in range(5):
         obs, *_ = env.step(np.zeros(20))

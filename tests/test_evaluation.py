@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 import yaml
 
-from acl_env import ACL_CLIMB_ID, ACL_CLIMB_SEA_ID, ROLLING_HELIX_CLIMB_ID, evaluation
+from acl_env import ACL_CLIMB_ID, ACL_CLIMB_SEA_ID, ROLLING_HELIX_CLIMB_ID, evaluation, tuned_gaits
 from acl_env.constants import POLE_GEOM, shell_name
-from acl_env.evaluation import baselines, records, runner
+from acl_env.evaluation import baselines, records, runner, tasks
 from acl_env.evaluation import cli as evaluate_cli
 from acl_env.training.runs import CONFIG_FILE, MODEL_FILE, VECNORMALIZE_FILE
 
@@ -335,9 +335,9 @@ def test_the_shipped_policy_gets_every_metric_and_controller(tmp_path: Path) -> 
 
     document = evaluate_cli.main(["--episodes", "2", "--env-kwargs", *SHORT_ARGS, *QUIET])
     folder = read_policy_folder(DEFAULT_POLICY)
-    sets_cadence = baselines.env_setting(folder.env_id, folder.env_kwargs, "phase_rate_range")
+    sets_cadence = tasks.env_setting(folder.env_id, folder.env_kwargs, "phase_rate_range")
     expected = FIVE if sets_cadence else FIVE - {"open_loop_acl_same_cadence"}
-    if baselines.env_setting(folder.env_id, folder.env_kwargs, "actuator_model") == "sea":
+    if tasks.env_setting(folder.env_id, folder.env_kwargs, "actuator_model") == "sea":
         # the compliant grip tuned on the SEA's gait, also at the policy's cadence
         expected = expected | {"compliant_acl"}
         if sets_cadence:
@@ -504,7 +504,7 @@ def test_policy_on_a_reshaped_gait_is_judged_against_the_default_and_tuned_gaits
     assert "gait_modulation" not in same
     assert "gait_modulation" not in by_name["open_loop_tuned"].env_kwargs
     env = gymnasium.make(by_name["open_loop_acl"].env_id, **by_name["open_loop_acl"].env_kwargs)
-    assert env.unwrapped.squeeze == 0.008  # the default gait's
+    assert env.unwrapped.config.gait.squeeze == 0.008  # the default gait's
 
 
 def test_policy_setting_the_cadence_on_another_gait_meets_the_tuned_gait_at_its_cadence(
@@ -512,7 +512,11 @@ def test_policy_setting_the_cadence_on_another_gait_meets_the_tuned_gait_at_its_
 ) -> None:
     """The best open loop at the same cadence: a cadence policy on a gait other than the tuned
     one is also judged against the tuned gait at the policy's rate, run after the policy."""
-    from acl_env.evaluation.baselines import TUNED_SAME_CADENCE, Controller, build_controllers
+    from acl_env.evaluation.baselines import (
+        TUNED_SAME_CADENCE,
+        Controller,
+        build_controllers,
+    )
     from acl_env.training.policy import PolicyFolder
 
     weights = {"climb": 1.0, "slip": 2.0}
@@ -570,10 +574,11 @@ def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
 
 def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
     """Committed evaluation JSONs must not name the folder of the machine that wrote them."""
-    from acl_env.evaluation.baselines import DEFAULT_POLICY, DEFAULT_TUNED_GAITS, shown_path
+    from acl_env.evaluation.baselines import DEFAULT_POLICY, DEFAULT_TUNED_GAITS
+    from acl_env.evaluation.tasks import shown_path
 
     assert shown_path(DEFAULT_POLICY) == "acl_env/data/policies/acl_climb_sea_ppo"
-    _, note = baselines.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
+    _, note = tasks.tuned_gait(DEFAULT_TUNED_GAITS, None, non_rolling=False)
     assert note.startswith("acl_env/data/tuned_gaits.json: 'acl'"), note
     assert shown_path(tmp_path / "policy") == str(tmp_path / "policy")  # outside: as given
 
@@ -584,8 +589,8 @@ def test_a_malformed_tuned_gaits_file_is_refused_naming_it(tmp_path: Path, text:
     tool that reads it (evaluate, policy_robustness, noroll_arc)."""
     path = tmp_path / "tuned.yml"
     path.write_text(text)
-    with pytest.raises(baselines.TunedGaitsError, match=r"tuned\.yml: not a tuned-gaits file"):
-        baselines.tuned_gait(path, None, non_rolling=False)
+    with pytest.raises(tuned_gaits.TunedGaitsError, match=r"tuned\.yml: not a tuned-gaits file"):
+        tasks.tuned_gait(path, None, non_rolling=False)
 
 
 def _summary(seeds: list[int], **values: list[float]) -> dict[str, Any]:
@@ -718,17 +723,16 @@ def test_every_registered_task_has_its_baselines() -> None:
         for env_id in gymnasium.registry
         if env_id.startswith("acl_env/") and env_id not in RENAMED_IDS
     ]
-    assert set(ids) == set(baselines.TASKS)
     shipped_keys = set(tuned_gaits.read())
     for env_id in ids:
-        task = baselines.TASKS[env_id]
+        task = tasks.task_baselines(env_id)
         registered = gymnasium.spec(env_id).kwargs
         assert task.base_gait == registered["base_gait"], env_id
         rolls = (registered.get("gait_kwargs") or {}).get("rolls_per_cycle", 1)
         assert task.non_rolling == (rolls == 0), env_id
-        assert baselines.is_non_rolling(env_id, {}) == task.non_rolling
+        assert tasks.is_non_rolling(env_id, {}) == task.non_rolling
         assert task.tuned_key in shipped_keys, env_id
-        assert baselines.default_tuned_key(env_id, task.non_rolling) == task.tuned_key
+        assert tasks.default_tuned_key(env_id, task.non_rolling) == task.tuned_key
     expected = {
         "acl_env/ACLClimbPaperGait-v1": "acl",
         "acl_env/ACLClimbServo-v1": "acl",
@@ -741,14 +745,14 @@ def test_every_registered_task_has_its_baselines() -> None:
         "acl_env/ACLClimbCompliant-v1": "acl_sea",
         "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
     }
-    assert {env_id: task.tuned_key for env_id, task in baselines.TASKS.items()} == expected
+    assert {env_id: tasks.task_baselines(env_id).tuned_key for env_id in ids} == expected
     # A gait given on the command line that rolls otherwise than its task's: the default entries.
-    assert baselines.default_tuned_key(ACL_CLIMB_ID, non_rolling=True) == "acl_noroll"
-    assert baselines.default_tuned_key("acl_env/ACLClimbNoRoll-v2", non_rolling=False) == "acl"
-    assert baselines.default_tuned_key(None, non_rolling=True) == "acl_noroll"
+    assert tasks.default_tuned_key(ACL_CLIMB_ID, non_rolling=True) == "acl_noroll"
+    assert tasks.default_tuned_key("acl_env/ACLClimbNoRoll-v2", non_rolling=False) == "acl"
+    assert tasks.default_tuned_key(None, non_rolling=True) == "acl_noroll"
     noroll_gait = {"gait_kwargs": {"rolls_per_cycle": 0}}
-    assert baselines.is_non_rolling(ACL_CLIMB_ID, noroll_gait)
-    assert not baselines.is_non_rolling("acl_env/ACLClimbNoRoll-v3", {"gait_kwargs": None})
+    assert tasks.is_non_rolling(ACL_CLIMB_ID, noroll_gait)
+    assert not tasks.is_non_rolling("acl_env/ACLClimbNoRoll-v3", {"gait_kwargs": None})
 
 
 def test_the_evaluation_package_imports_without_torch_yaml_or_sb3() -> None:

@@ -52,7 +52,7 @@ def _controller(gain: float = 1e-3, leak: float = 100.0, target: float = 100.0) 
     env = gym.make(ACL_CLIMB_SEA_ID, **SHORT, grip_target=0.0).unwrapped
     env.reset(seed=0)
     controller = GripController(section_weights(env.n_joints, 4), target, gain, leak)
-    controller.reset(env.gait, env._gait_kwargs(env.pole_radius))
+    controller.reset(env.gait, env._gait_kwargs(env.config.physics.pole_radius))
     return controller
 
 
@@ -119,8 +119,8 @@ def test_compliant_task_id() -> None:
     section (before the cadence), observing the controller's state."""
     env = gym.make(ACL_CLIMB_COMPLIANT_ID).unwrapped
     sea = gym.make(ACL_CLIMB_SEA_ID).unwrapped
-    assert env.grip_target == tuned_gaits.grip("acl_sea_grip")["grip_target"]
-    assert env.grip_action_scale == COMPLIANT_KWARGS["grip_action_scale"] == 100.0
+    assert env.config.grip.target == tuned_gaits.grip("acl_sea_grip")["grip_target"]
+    assert env.config.grip.action_scale == COMPLIANT_KWARGS["grip_action_scale"] == 100.0
     names = env.action_names
     assert names[:-5] == sea.action_names[:-1] and names[-1] == "cadence"
     assert names[-5:-1] == tuple(f"grip_section_{s}" for s in range(4))
@@ -129,7 +129,7 @@ def test_compliant_task_id() -> None:
     action = np.zeros(env.action_space.shape, dtype=np.float32)
     action[-4] = 1.0  # section 1's target, +100 N
     obs, *_ = env.step(action)
-    expected = env.grip_target + np.array([0.0, 100.0, 0.0, 0.0])
+    expected = env.config.grip.target + np.array([0.0, 100.0, 0.0, 0.0])
     np.testing.assert_allclose(env._grip.target, expected)
     np.testing.assert_allclose(obs[-8:-4], env._grip.offset / GRIP_RANGE)
     np.testing.assert_allclose(obs[-4:], env._grip.force)
@@ -197,8 +197,8 @@ def test_evaluation_meets_compliant_acl_and_open_loops_without_the_grip(tmp_path
     assert by_name[COMPLIANT_SAME_CADENCE].phase_rate == 1.0
     for name in ("open_loop_acl", "open_loop_tuned", "open_loop_acl_same_cadence"):
         env = by_name[name].make_env().unwrapped
-        assert env.grip_target is None, name
-        assert env.actuator_model == "sea"
+        assert env.config.grip is None, name
+        assert env.config.actuator.model.name == "sea"
     tuned = by_name["open_loop_tuned"].env_kwargs
     assert {k: v for k, v in by_name[COMPLIANT].env_kwargs.items() if k not in GRIP_KWARGS} == tuned
 
@@ -212,7 +212,10 @@ def test_tuner_grip_mode_searches_the_grip_on_the_ids_gait(tmp_path) -> None:
     assert settings.space == GRIP_SPACE and settings.default_params == GRIP_DEFAULT_PARAMS
     assert settings.env_kwargs({"grip_target": 5.0}) == {"grip_target": 5.0}
     envs = settings.make_envs({"grip_target": 5.0, "grip_gain": 1e-5, "grip_leak": 1.0})
-    assert envs[0].unwrapped.tuned_gait == "acl_sea" and envs[0].unwrapped.grip_target == 5.0
+    assert (
+        envs[0].unwrapped.config.gait.tuned_gait == "acl_sea"
+        and envs[0].unwrapped.config.grip.target == 5.0
+    )
     for extra in (["--space", "pitch:0.1:0.12"], ["--start-from", "acl"]):
         with pytest.raises(UsageError, match=extra[0]):
             settings_from_args(make_parser().parse_args([*argv, *extra]))

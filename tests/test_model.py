@@ -102,7 +102,7 @@ def test_wheel_ships_the_assets(tmp_path: Path, installed_wheel: Path) -> None:
         "import gymnasium as gym, acl_env; from acl_env import shipped, tuned_gaits; "
         "print(shipped.recipe_path()); print(tuned_gaits.shipped_path()); "
         "print(*[shipped.policy_dir(n) / 'policy.npz' for n in shipped.list_policies()]); "
-        "print(gym.make(acl_env.ACL_CLIMB_NOROLL_ID).unwrapped.squeeze)"
+        "print(gym.make(acl_env.ACL_CLIMB_NOROLL_ID).unwrapped.config.gait.squeeze)"
     )
     out = subprocess.run(
         [sys.executable, "-c", probe],

@@ -57,9 +57,13 @@ def test_uniform_squeeze_offset_is_the_tighter_gait(fraction: float) -> None:
     base = env.unwrapped
     action = np.zeros(env.action_space.shape)
     action[20:] = fraction
-    squeeze = base.squeeze + 0.004 * fraction
-    kwargs = {k: v for k, v in base._gait_kwargs(base.pole_radius).items() if k != "radius"}
-    expected = ACLGait(**kwargs, radius=helix_radius(base.pole_radius, squeeze)).cycle()
+    squeeze = base.config.gait.squeeze + 0.004 * fraction
+    kwargs = {
+        k: v for k, v in base._gait_kwargs(base.config.physics.pole_radius).items() if k != "radius"
+    }
+    expected = ACLGait(
+        **kwargs, radius=helix_radius(base.config.physics.pole_radius, squeeze)
+    ).cycle()
     k = int(base._keyframe)
     change = base._modulation(action)
     on_grid = abs(fraction * (GRID - 1) / 2 - round(fraction * (GRID - 1) / 2)) < 1e-12
@@ -107,7 +111,9 @@ def test_randomized_pole_gets_tables_of_its_radius() -> None:
     for seed in range(6):
         env.reset(seed=seed)
         base = env.unwrapped
-        pole = base.gait.radius + base.squeeze - SEA_MODULE_RADIUS  # the gait follows the pole
+        pole = (
+            base.gait.radius + base.config.gait.squeeze - SEA_MODULE_RADIUS
+        )  # the gait follows the pole
         tables[table_radius(pole)] = base._offset_tables
     assert len(tables) > 1
     for pole, table in tables.items():

@@ -45,9 +45,9 @@ def last_info(env: gym.Env, seed: int = 0) -> tuple[dict, int]:
 def test_noroll_id_is_registered_with_its_kwargs() -> None:
     env = gym.make(ACL_CLIMB_NOROLL_ID, **SHORT)
     base = env.unwrapped
-    assert base.gait_kwargs["rolls_per_cycle"] == 0
-    assert base.reward_weights["roll"] == NOROLL_KWARGS["reward_weights"]["roll"] > 0.0
-    assert base.roll_limit == NOROLL_KWARGS["roll_limit"]
+    assert base.config.gait.gait_kwargs["rolls_per_cycle"] == 0
+    assert base.config.reward_weights["roll"] == NOROLL_KWARGS["reward_weights"]["roll"] > 0.0
+    assert base.config.episode.roll_limit == NOROLL_KWARGS["roll_limit"]
     check_env(base, skip_render_check=True)
 
 
@@ -66,7 +66,7 @@ def test_roll_reads_zero_without_roll_and_one_turn_per_cycle_with_it() -> None:
 def test_roll_term_in_info_and_reward_is_sum_of_terms() -> None:
     env = gym.make(ACL_CLIMB_NOROLL_ID, **SHORT)
     env.reset(seed=1)
-    weight = env.unwrapped.reward_weights["roll"]
+    weight = env.unwrapped.config.reward_weights["roll"]
     rng = np.random.default_rng(0)
     grew = 0.0
     for _ in range(20):
@@ -202,7 +202,7 @@ def test_ppo_config_entry_builds_the_noroll_env() -> None:
     assert not {"squeeze", "squeeze_slope", "gait_kwargs"} & set(env_kwargs)
     env = gym.make(ACL_CLIMB_NOROLL_ID, **env_kwargs, **SHORT)
     env.reset(seed=0)
-    assert env.unwrapped.roll_limit == NOROLL_KWARGS["roll_limit"]
+    assert env.unwrapped.config.episode.roll_limit == NOROLL_KWARGS["roll_limit"]
 
 
 @pytest.mark.parametrize(
@@ -243,7 +243,7 @@ def test_registered_gait_is_the_tuners_noroll_entry(
     must be the same gait and reward. Both studies ran on v2 (a trial sets the whole gait); v3
     also loosens the squeeze on thin poles, which the tuned open loop gets from the env it runs on
     (the policy's)."""
-    from acl_env.evaluation.baselines import default_tuned_key
+    from acl_env.evaluation.tasks import default_tuned_key
 
     assert default_tuned_key(env_id, non_rolling=True) == key
     assert gym.spec(env_id).kwargs == registered
@@ -508,7 +508,8 @@ def test_slip_by_phase_compares_a_policy_without_cadence_with_its_gait(tmp_path:
     controller's phase bins add up to its episode's climb per gait cycle."""
     import json
 
-    from acl_env.evaluation.baselines import evaluation_env_kwargs, read_policy
+    from acl_env.evaluation.baselines import read_policy
+    from acl_env.evaluation.tasks import evaluation_env_kwargs
 
     script = EXPERIMENTS / "residual_limits" / "slip_by_phase.py"
     main = runpy.run_path(str(script), run_name="slip")["main"]

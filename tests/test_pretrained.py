@@ -22,7 +22,7 @@ import pytest
 
 import acl_env
 from acl_env import pretrained, shipped
-from acl_env.evaluation import baselines, export, records
+from acl_env.evaluation import baselines, export, records, tasks
 from acl_env.evaluation import cli as evaluate_cli
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -136,7 +136,7 @@ def test_evaluation_builds_the_same_controllers_from_either_folder(
     # the id and kwargs it was trained with: the same task, spelled two ways.
     assert ship.env_id in acl_env.BENCHMARK_BASES and ship.hyperparams == sb3.hyperparams
     # (a run trained on the benchmark id itself names it too: both spelled on the base id)
-    assert baselines.spelled_on_base(ship.env_id, ship.env_kwargs) == baselines.spelled_on_base(
+    assert tasks.spelled_on_base(ship.env_id, ship.env_kwargs) == tasks.spelled_on_base(
         sb3.env_id, sb3.env_kwargs
     )
     built = [

@@ -9,7 +9,7 @@ import yaml
 
 import acl_env
 from acl_env import shipped, tuned_gaits
-from acl_env.evaluation.baselines import spelled_on_base
+from acl_env.evaluation.tasks import spelled_on_base
 
 
 def _recipe() -> dict:
@@ -93,8 +93,11 @@ def test_benchmark_id_steps_as_its_base_with_the_recipes_kwargs(task: str, base:
 def test_the_paper_default_gait_env_stays_registered() -> None:
     """ACLClimb-v1 is still the paper's default gait with a plain joint residual."""
     env = gym.make(acl_env.ACL_CLIMB_ID).unwrapped
-    assert env.residual_scale == pytest.approx(0.2) and env.phase_rate_range is None
-    assert env.squeeze == pytest.approx(0.008)
+    assert (
+        env.config.gait.residual_scale == pytest.approx(0.2)
+        and env.config.gait.phase_rate_range is None
+    )
+    assert env.config.gait.squeeze == pytest.approx(0.008)
 
 
 @pytest.mark.parametrize("old_id", sorted(acl_env.RENAMED_IDS))

@@ -145,7 +145,7 @@ def test_shipped_recipe_names_the_shipped_tuned_gait() -> None:
     assert env_kwargs["reward_weights"] == entry["reward_weights"]
     env = check_env_kwargs(ACL_ID, {**env_kwargs, **SHORT})
     try:
-        assert env.unwrapped.squeeze == entry["env_kwargs"]["squeeze"]
+        assert env.unwrapped.config.gait.squeeze == entry["env_kwargs"]["squeeze"]
     finally:
         env.close()
 
@@ -187,7 +187,7 @@ def test_shipped_gait_is_the_best_open_loop_found_at_the_policys_cadence() -> No
     experiments/acl_cadence/cadence_sweep.json the shipped gait earns at least as much per gait
     cycle at that cadence, within the 95 % interval, and more than the cadence-1 study's gait at
     every cadence swept."""
-    from acl_env.evaluation.baselines import tuned_gait
+    from acl_env.evaluation.tasks import tuned_gait
 
     entry = tuned_gaits.entry("acl")
     at_cadence = tuned_gaits.read(gaits_file("tuned_gaits_cadence2"))["acl"]

@@ -19,20 +19,22 @@ from acl_env.actuators.base import LATENCY_RANGE
 from acl_env.actuators.servo import KP_MAX
 from acl_env.constants import CONTROL_DT, DEFAULT_KP
 from acl_env.envs import ACLClimbEnv
-from acl_env.envs.arguments import (
+from acl_env.envs.config import (
     CYCLES_PER_EPISODE_RANGE,
     FALL_DISTANCE_MAX,
     FRICTION_MAX,
-    GAIT_SAMPLES_RANGE,
     IMAGE_SIZE_RANGE,
     N_JOINTS_RANGE,
     POLE_RADIUS_RANGE,
-    RESIDUAL_SCALE_MAX,
-    SQUEEZE_RANGE,
-    STEPS_PER_CYCLE_RANGE,
     TIMESTEP_RANGE,
 )
 from acl_env.envs.contacts import SLIP_SAMPLES
+from acl_env.envs.gait_config import (
+    GAIT_SAMPLES_RANGE,
+    RESIDUAL_SCALE_MAX,
+    SQUEEZE_RANGE,
+    STEPS_PER_CYCLE_RANGE,
+)
 from acl_env.envs.modulation import MODULATED_PARAMETERS, SECTIONS_RANGE
 from acl_env.envs.randomize import (
     SENSOR_NOISE_MAX,

@@ -38,7 +38,7 @@ class Option:
 
 
 @dataclass(frozen=True)
-class ActuatorSetting:
+class ActuatorConfig:
     """A model with its checked option values, as the model builder needs it;
     ``history_latency`` (s) sizes the command history for randomised latencies."""
 
@@ -146,8 +146,8 @@ def history_samples(latency: float, timestep: float) -> int:
 
 __all__ = [
     "LATENCY_RANGE",
+    "ActuatorConfig",
     "ActuatorModel",
-    "ActuatorSetting",
     "JointReadout",
     "Option",
     "history_samples",

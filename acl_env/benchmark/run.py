@@ -19,9 +19,10 @@ from typing import Any
 import numpy as np
 
 from acl_env.benchmark.grid import Cell, Grid
-from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, shown_path
+from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS
 from acl_env.evaluation.protocol import Episode
 from acl_env.evaluation.runner import evaluate, policies_controllers
+from acl_env.evaluation.tasks import shown_path
 from acl_env.io import jsonable, read_json, write_json
 
 FORMAT = "acl_env.benchmark/1"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from functools import lru_cache
 from typing import Any, ClassVar
 
@@ -14,21 +13,16 @@ from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
 from acl_env.constants import (
-    DEFAULT_FRICTION,
-    DEFAULT_KP,
-    DEFAULT_N_JOINTS,
-    DEFAULT_POLE_RADIUS,
-    DEFAULT_STEPS_PER_CYCLE,
     IMU_GYRO_SENSOR,
     IMU_QUAT_SENSOR,
     JOINT_LIMIT,
-    PHYSICS_TIMESTEP,
     SCENE_FILE,
-    TRACK_CAMERA,
 )
 from acl_env.envs import modulation, termination
-from acl_env.envs.arguments import GAITS, check_arguments, check_camera, gait_kwargs_at, squeeze_at
+from acl_env.envs import observations as layouts
+from acl_env.envs.config import ARGUMENTS, EnvConfig, check_camera, signature
 from acl_env.envs.contacts import ContactSampler
+from acl_env.envs.gait_config import GAITS
 from acl_env.envs.grip import GRIP_RANGE, GripController
 from acl_env.envs.lifecycle import LifecycleMixin
 from acl_env.envs.modulation import offset_tables, table_radius
@@ -80,19 +74,10 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     that moves its grip target (``envs/grip.py``). ``action_names`` names every entry.
 
     ## Observation Space
-    What the robot senses (float64, ``n = n_joints``):
-
-    | index | observation | unit |
-    |---|---|---|
-    | 0 .. n-1 | joint angles | rad |
-    | n .. 2n-1 | joint velocities | rad/s |
-    | 2n .. 3n-1 | joint torques (SEA: spring torque as encoded; servo: its output) | N m |
-    | 3n .. 3n+3 | head IMU orientation, quaternion (w, x, y, z) | - |
-    | 3n+4 .. 3n+6 | head IMU angular velocity | rad/s |
-    | 3n+7, 3n+8 | cos, sin of the gait phase of the next step | - |
-    | 3n+9 .. 4n+8 | base gait's target angles for the next step | rad |
-    | next 2 x sections | with ``grip_target``: squeeze offsets (of 2 cm), squeeze forces | -, N |
-    | last 6 | only with ``privileged_obs``: centre of mass position, velocity | m, m/s |
+    What the robot senses (float64): joint angles, velocities and torques, the head IMU, the
+    gait's phase and its next targets, then the compliant grip's state (``grip_target``) and the
+    centre of mass (``privileged_obs``). Declared once, with sizes and units, in
+    :func:`acl_env.envs.observations.observation_layout`; ``docs/environments.md`` shows it.
 
     ## Rewards
     The sum of ``reward_<term> = +-w_<term> * <term>``, weights ``reward_weights``: ``climb`` (+),
@@ -174,9 +159,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     | grip_action_scale | None (0) | [0, 500] | N of grip target per unit action |
 
     A value of the wrong kind raises ``TypeError``, one out of range ``ValueError``, both naming
-    the argument (``envs/arguments.py`` says why each bound); a negative reward weight flips its
-    term. Also: ``0 <= low <= 1 <= high
-    <= steps_per_cycle / 2``; ``squeeze`` below pole + module radius; ``gait_kwargs`` within the
+    the argument (``envs/config.py`` and ``envs/gait_config.py`` say why each bound); a negative
+    reward weight flips its term. Also: ``0 <= low <= 1 <= high <= steps_per_cycle / 2``;
+    ``squeeze`` below pole + module radius; ``gait_kwargs`` within the
     gait's ranges (``gait/gaits.py``), not setting ``n_joints``, ``steps_per_cycle``,
     ``module_length`` or ``module_diameter``; its ``n_samples`` in [100, 1000]. ``render_mode=
     "human"`` needs a window (``DISPLAY``; not ``MUJOCO_GL=egl``). ``domain_randomization`` draws
@@ -208,84 +193,47 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         "render_fps": 10,
     }
 
-    def __init__(
-        self,
-        base_gait: str = "acl",
-        gait_kwargs: Mapping[str, Any] | None = None,
-        residual_scale: float | None = None,
-        n_joints: int = DEFAULT_N_JOINTS,
-        pole_radius: float = DEFAULT_POLE_RADIUS,
-        friction: float = DEFAULT_FRICTION,
-        kp: float = DEFAULT_KP,
-        squeeze: float | None = None,
-        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
-        cycles_per_episode: int = 2,
-        reward_weights: Mapping[str, float] | None = None,
-        domain_randomization: bool | Mapping[str, Any] | None = None,
-        privileged_obs: bool = False,
-        start_phase_range: float = 0.05,
-        reset_noise_scale: float = 0.02,
-        fall_distance: float = 0.2,
-        phase_rate_range: tuple[float, float] | None = None,
-        timestep: float = PHYSICS_TIMESTEP,
-        roll_limit: float | None = None,
-        gait_modulation: Mapping[str, float] | None = None,
-        modulation_sections: int | None = None,
-        squeeze_slope: float = 0.0,
-        render_mode: str | None = None,
-        width: int = 640,
-        height: int = 480,
-        camera_name: str = TRACK_CAMERA,
-        tuned_gait: str | None = None,
-        actuator_model: str = "servo",
-        spring_stiffness: float | None = None,
-        motor_speed_limit: float | None = None,
-        control_latency: float | None = None,
-        sensor_latency: float | None = None,
-        grip_target: float | None = None,
-        grip_gain: float | None = None,
-        grip_leak: float | None = None,
-        grip_action_scale: float | None = None,
-    ) -> None:
-        raw = dict(locals())  # the arguments, exactly as passed
-        del raw["self"]
-        EzPickle.__init__(self, **raw)
-        # Every argument is checked for type and range (envs/arguments.py); the checked values,
-        # the fields of EnvArguments, are the env's attributes of the same names.
-        checked = check_arguments(**raw, render_modes=tuple(self.metadata["render_modes"]))
-        vars(self).update(vars(checked))
-
-        self.gait = self._make_gait(self.pole_radius)
+    def __init__(self, **kwargs: Any) -> None:
+        EzPickle.__init__(self, **kwargs)
+        # Every keyword argument (envs/config.py: ARGUMENTS, the signature) is checked once, into
+        # one typed config per concern.
+        config = self.config = EnvConfig.from_kwargs(kwargs, self.metadata["render_modes"])
+        self.n_joints, self.steps_per_cycle = config.physics.n_joints, config.gait.steps_per_cycle
+        self.cycles_per_episode = config.episode.cycles_per_episode
+        gait, grip_config, render = config.gait, config.grip, config.render
+        self.gait = self._make_gait(config.physics.pole_radius)
         n = self.n_joints
-        n_grip = self.modulation_sections if self.grip_target is not None else 0
-        obs_size = 4 * n + 9 + (6 if self.privileged_obs else 0) + 2 * n_grip
+        # The spaces, from the layouts declared in envs/observations.py.
+        obs_size = layouts.size(layouts.env_observation_layout(self))
         observation_space = spaces.Box(-np.inf, np.inf, shape=(obs_size,), dtype=np.float64)
         MujocoEnv.__init__(
             self,
             str(assets_dir() / SCENE_FILE),
-            self.frame_skip,
+            config.physics.frame_skip,
             observation_space=observation_space,
-            render_mode=render_mode,
-            width=width,
-            height=height,
-            camera_name=camera_name,
+            render_mode=render.render_mode,
+            width=render.width,
+            height=render.height,
+            camera_name=render.camera_name,
         )
-        check_camera(self.model, camera_name)
-        n_modulation = len(self._modulated) * self.modulation_sections
-        n_targets = n_grip if self.grip_action_scale else 0  # grip targets, after modulation
-        self._rate_index = n + n_modulation + n_targets  # the cadence action, when there is one
-        n_actions = self._rate_index + (self.phase_rate_range is not None)
+        check_camera(self.model, render.camera_name)
+        n_actions = layouts.size(layouts.env_action_layout(self))
+        # the cadence action, the last, when there is one
+        self._rate_index = n_actions - (gait.phase_rate_range is not None)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n_actions,), dtype=np.float32)
         elements = self._elements = RandomizedElements.of(self.model, n)
-        actuators = self.actuators.model
-        scene = {"pole_radius": self.pole_radius, "friction": self.friction, "mass_scale": 1.0}
-        nominal = {**scene, **self.actuators.values}
+        actuators, physics = config.actuator.model, config.physics
+        scene = {"pole_radius": physics.pole_radius, "friction": physics.friction}
+        scene["mass_scale"] = 1.0
+        nominal = {**scene, **config.actuator.values}
         self._nominal_physics = {key: nominal[key] for key in draw_order(actuators)}
         self._readout = actuators.readout(self.model, self.data, n)
-        self._stiffness = self.actuators.values[actuators.stiffness]  # of this episode
+        self._stiffness = config.actuator.values[actuators.stiffness]  # of this episode
         self._contacts = ContactSampler(self.model, elements.snake_geoms, elements.pole_geom)
-        grip = (self._section_weights, self.grip_target, self.grip_gain, self.grip_leak)
-        self._grip = GripController(*grip) if n_grip else None  # the 100 Hz loop, envs/grip.py
+        self._grip = None  # the 100 Hz loop, envs/grip.py
+        if grip_config is not None:
+            grip = (grip_config.target, grip_config.gain, grip_config.leak)
+            self._grip = GripController(gait.section_weights, *grip)
         self._physics = StepPhysics(self, self._contacts, self._readout)
         self._root_body = elements.snake_bodies[0]
         # Views into MjData made once: each attribute access of MjData builds a new array view.
@@ -297,15 +245,16 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._imu_view = sensor_indices(self.model, IMU_QUAT_SENSOR, IMU_GYRO_SENSOR)
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
         self._table = self._gait_table()
-        self._offset_tables = self._gait_offset_tables(self.pole_radius)
+        self._offset_tables = self._gait_offset_tables(physics.pole_radius)
         self._step_count = 0
         self._k0 = 0
         self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
         self._com_start = 0.0
 
     def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
-        args = (self.n_joints, self.pole_radius, self.friction, self.kp)
-        model = build_model(*args, timestep=self.timestep, actuators=self.actuators)
+        physics = self.config.physics
+        args = (physics.n_joints, physics.pole_radius, physics.friction)
+        model = build_model(*args, timestep=physics.timestep, actuators=self.config.actuator)
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
         return model, mujoco.MjData(model)
@@ -313,14 +262,13 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     def squeeze_at(self, pole_radius: float) -> float:
         """The squeeze (m) the gait's helix is commanded with on a pole of ``pole_radius``: less
         ``squeeze_slope`` per m the pole is thinner than 0.075 m (``arguments.squeeze_at``)."""
-        return squeeze_at(self.squeeze, self.squeeze_slope, pole_radius)
+        return self.config.gait.squeeze_at(pole_radius)
 
     def _gait_kwargs(self, pole_radius: float) -> dict[str, Any]:
-        squeeze, n, steps = self.squeeze_at(pole_radius), self.n_joints, self.steps_per_cycle
-        return gait_kwargs_at(pole_radius, squeeze, self.gait_kwargs, n, steps)
+        return self.config.gait.kwargs_at(pole_radius, self.n_joints)
 
     def _make_gait(self, pole_radius: float, base: str | None = None) -> Gait | None:
-        base = base or self.base_gait
+        base = base or self.config.gait.base_gait
         if GAITS[base] is None:
             return None
         return _cached_gait(base, tuple(sorted(self._gait_kwargs(pole_radius).items())))
@@ -333,33 +281,35 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     def _gait_offset_tables(self, pole_radius: float) -> np.ndarray | None:
         """The gait's keyframe tables with each modulated parameter offset, less the base table
         (envs/modulation.py), at the pole radius rounded to 1 mm; None without modulation."""
-        if not self._modulated or self.gait is None:
+        if not self.config.gait.modulated or self.gait is None:
             return None
         items = tuple(sorted(self._gait_kwargs(table_radius(pole_radius)).items()))
-        return offset_tables(type(self.gait), items, tuple(self.gait_modulation.items()))
+        modulated = tuple(self.config.gait.gait_modulation.items())
+        return offset_tables(type(self.gait), items, modulated)
 
     def reset_model(self) -> np.ndarray:
         rng = self.np_random
         self._contacts.pyramidal = self.model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
-        physics = draw_physics(self.randomization, self._nominal_physics, rng)
-        actuators = self.actuators.model
+        config = self.config
+        physics = draw_physics(config.randomization, self._nominal_physics, rng)
+        actuators = config.actuator.model
         apply_physics(self.model, self.data, self._elements, physics, actuators)
         self._stiffness = physics[actuators.stiffness]
-        self._noise_std = sensor_noise_std(self.randomization, self._stiffness, self.n_joints)
+        self._noise_std = sensor_noise_std(config.randomization, self._stiffness, self.n_joints)
         pole_radius = physics["pole_radius"]
         self.gait = self._make_gait(pole_radius)
         self._table = self._gait_table()
         self._offset_tables = self._gait_offset_tables(pole_radius)
         if self._grip is not None:  # tables per 1 mm of pole, as the modulation's
             self._grip.reset(self.gait, self._gait_kwargs(table_radius(pole_radius)))
-        span = max(1, round(self.start_phase_range * self.steps_per_cycle))
+        span = max(1, round(config.episode.start_phase_range * self.steps_per_cycle))
         self._k0 = int(rng.integers(span))
         self._step_count = 0
         self._last_action = np.zeros(self.action_space.shape)
         # "none" starts from the ACL gait's pose: the ablation must still begin on the pole.
         start_gait = self.gait or self._make_gait(pole_radius, "acl")
         yaw = rng.uniform(-np.pi, np.pi)
-        noise = self.reset_noise_scale * rng.standard_normal(self.n_joints)
+        noise = config.episode.reset_noise_scale * rng.standard_normal(self.n_joints)
         phase0, kwargs = self._k0 / self.steps_per_cycle, self._gait_kwargs(pole_radius)
         qpos = placed_qpos(
             type(start_gait), kwargs, phase0, pole_radius, yaw, noise, self.init_qpos
@@ -384,16 +334,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         change, n = action - self._last_action, self.n_joints
         action_rate = float(change[:n] @ change[:n] + change[n:] @ change[n:]) / n
         self._last_action = action
-        base = self._base_target()
-        residual = self.residual_scale * action[: self.n_joints]
-        if self._offset_tables is not None:
-            residual = residual + self._modulation(action)
-        target = np.minimum(np.maximum(base + residual, -JOINT_LIMIT), JOINT_LIMIT)
+        config, target = self.config, self._command(action)
         rate = self._phase_rate(action)
         phase = self._keyframe / self.steps_per_cycle
-        if self._grip is not None and self.grip_action_scale:  # the sections' grip targets
-            a = action[self._rate_index - self.modulation_sections : self._rate_index]
-            self._grip.target = self.grip_target + self.grip_action_scale * a
         com_before = float(self._com_view[2])
         self._stability.start()
         run = self._physics.run(target, int(self._keyframe), self._stiffness, self._grip)
@@ -406,13 +349,13 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         climb = 0.0 if unstable else com_height - com_before
         slip = 0.0 if unstable else slip
         fell = not unstable and termination.fell(
-            com_height, self._com_start, self.fall_distance, touched, grounded
+            com_height, self._com_start, config.episode.fall_distance, touched, grounded
         )
         roll = 0.0 if unstable else self._roll.update(self._body_roll.angles())
         roll_span = float(self._roll.span_deg.max())
-        rolled = not unstable and termination.rolled(roll_span, self.roll_limit)
+        rolled = not unstable and termination.rolled(roll_span, config.episode.roll_limit)
         measures = StepMeasures(climb, slip, roll, 0.0 if unstable else energy, action_rate)
-        terms = reward_terms(self.reward_weights, measures)
+        terms = reward_terms(config.reward_weights, measures)
         reward = sum(terms.values())
         terminated = fell or unstable or rolled
         truncated = self._step_count >= self.steps_per_cycle * self.cycles_per_episode
@@ -437,6 +380,20 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             self.render()
         return obs, reward, terminated, truncated, info
 
+    def _command(self, action: np.ndarray) -> np.ndarray:
+        """The joint targets (rad) for the clipped ``action``: the gait's keyframe plus the
+        residual and the modulation, within the joints' range. Sets the sections' grip targets
+        where the policy moves them."""
+        config = self.config
+        residual = config.gait.residual_scale * action[: self.n_joints]
+        if self._offset_tables is not None:
+            residual = residual + self._modulation(action)
+        grip = config.grip
+        if grip is not None and grip.action_scale:  # the sections' grip targets
+            a = action[self._rate_index - config.gait.modulation_sections : self._rate_index]
+            self._grip.target = grip.target + grip.action_scale * a
+        return np.minimum(np.maximum(self._base_target() + residual, -JOINT_LIMIT), JOINT_LIMIT)
+
     def _base_target(self) -> np.ndarray:
         """The base gait's joint targets at the current phase: a table row, or between two rows
         (linear) when the phase rate is modulated."""
@@ -448,25 +405,25 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
 
     def _modulation(self, action: np.ndarray) -> np.ndarray:
         """Change of the joint targets (rad) by the per-section parameter offsets."""
-        n, sections = self.n_joints, self.modulation_sections
-        a = action[n : n + len(self._modulated) * sections].reshape(-1, sections)
-        offsets = a @ self._section_weights.T  # (P, n), in units of each parameter's scale
+        n, gait = self.n_joints, self.config.gait
+        sections = gait.modulation_sections
+        a = action[n : n + len(gait.modulated) * sections].reshape(-1, sections)
+        offsets = a @ gait.section_weights.T  # (P, n), in units of each parameter's scale
         return modulation.keyframe_change(self._offset_tables, self._keyframe, offsets)
 
     def _phase_rate(self, action: np.ndarray) -> float:
         """Keyframes the gait advances this step: 1, or set by the last action (PMTG option)."""
-        if self.phase_rate_range is None:
+        rate_range = self.config.gait.phase_rate_range
+        if rate_range is None:
             return 1.0
-        lo, hi = self.phase_rate_range
+        lo, hi = rate_range
         a = float(action[self._rate_index])
         return 1.0 + a * (hi - 1.0 if a >= 0.0 else 1.0 - lo)
 
     @property
     def action_names(self) -> tuple[str, ...]:
-        """What each action entry drives, in order (``envs/modulation.py``)."""
-        cadence, grip = self.phase_rate_range is not None, bool(self.grip_action_scale)
-        sections = self.modulation_sections
-        return modulation.action_names(self.n_joints, self._modulated, sections, cadence, grip)
+        """What each action entry drives, in order (``envs/observations.py``)."""
+        return layouts.names(layouts.env_action_layout(self))
 
     def _get_obs(self) -> np.ndarray:
         data = self.data
@@ -479,11 +436,11 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         ]
         if self._grip is not None:  # the controller's state: section offsets (of the range), N
             parts += [self._grip.offset * (1.0 / GRIP_RANGE), self._grip.force]
-        if self.privileged_obs:
+        if self.config.episode.privileged_obs:
             mujoco.mj_subtreeVel(self.model, data)
             parts += [self._com_view, data.subtree_linvel[self._root_body]]
         obs = np.concatenate(parts)
-        if "sensor_noise" in self.randomization:
+        if "sensor_noise" in self.config.randomization:
             noise = self._noise_std * self.np_random.standard_normal(self._noise_std.size)
             obs[: self._noise_std.size] += noise
         return obs
@@ -492,5 +449,9 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         com, phase = float(self._com_view[2]), self._keyframe / self.steps_per_cycle
         return {"com_height": com, "phase": phase}
 
+
+# The keyword arguments, declared once in envs/config.py (ARGUMENTS), as the signature.
+ACLClimbEnv.__init__.__signature__ = signature()  # type: ignore[attr-defined]
+ACLClimbEnv.__init__.__annotations__ = {a.name: a.annotation for a in ARGUMENTS}
 
 __all__ = ["ACLClimbEnv"]

@@ -161,15 +161,3 @@ def _default(gait_class: type[Gait], key: str) -> float:
     if parameter is None:
         raise ValueError(f"gait_modulation: {gait_class.__name__} has no parameter {key!r}")
     return float(parameter.default)
-
-
-def action_names(
-    n_joints: int, modulated: tuple[str, ...], sections: int, cadence: bool, grip: bool = False
-) -> tuple[str, ...]:
-    """What each action entry drives, in order: ``joint_<j>`` (the residual of joint ``j``),
-    ``<parameter>_section_<s>`` (gait modulation, section ``s`` from the head),
-    ``grip_section_<s>`` (the compliant grip's target, with ``grip``), ``cadence``."""
-    names = [f"joint_{j}" for j in range(n_joints)]
-    names += [f"{key}_section_{s}" for key in modulated for s in range(sections)]
-    names += [f"grip_section_{s}" for s in range(sections)] if grip else []
-    return tuple(names + (["cadence"] if cadence else []))

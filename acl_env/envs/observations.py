@@ -1,34 +1,156 @@
-"""What each observation entry of ``ACLClimbEnv`` is, in order: its names, for tools that carry a
-trained policy over to an env that observes more (``acl-train --init-from``)."""
+"""The observation and action layouts of ``ACLClimbEnv``, declared once: each block's name, size,
+unit and meaning, in order. The env builds its spaces from them, the exporter writes their names
+into a policy's metadata, warm starts match entries by name (``acl-train --init-from``), and the
+docs' tables are generated from them (``docs/hooks/layouts.py``)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
-
-from acl_env.envs.grip import GripController
 
 IMU = ("imu_quat_w", "imu_quat_x", "imu_quat_y", "imu_quat_z", "gyro_x", "gyro_y", "gyro_z")
 PRIVILEGED = ("com_x", "com_y", "com_z", "com_vel_x", "com_vel_y", "com_vel_z")
 
 
-def observation_names(n_joints: int, grip_sections: int = 0, privileged: bool = False) -> tuple:
-    """``angle_<j>``, ``velocity_<j>``, ``torque_<j>``, the head IMU, ``phase_cos``,
-    ``phase_sin``, ``target_<j>`` (the gait's), then with the compliant grip
-    ``grip_offset_<s>`` and ``grip_force_<s>`` per section, then the privileged centre of mass
-    and its velocity."""
-    joints = range(n_joints)
-    names = [f"{q}_{j}" for q in ("angle", "velocity", "torque") for j in joints]
-    names += [*IMU, "phase_cos", "phase_sin", *(f"target_{j}" for j in joints)]
-    for quantity in ("offset", "force"):
-        names += [f"grip_{quantity}_{s}" for s in range(grip_sections)]
-    return tuple(names + (list(PRIVILEGED) if privileged else []))
+@dataclass(frozen=True)
+class Block:
+    """A run of consecutive entries: its entries' names, unit and meaning; ``when``: the option
+    that adds it (empty: always there)."""
+
+    names: tuple[str, ...]
+    unit: str
+    meaning: str
+    when: str = ""
+
+    @property
+    def size(self) -> int:
+        return len(self.names)
 
 
-def env_observation_names(env: Any) -> tuple:
-    """:func:`observation_names` of an ``ACLClimbEnv`` (unwrapped)."""
-    grip: GripController | None = env._grip
-    sections = 0 if grip is None else grip.weights.shape[1]
-    return observation_names(env.n_joints, sections, env.privileged_obs)
+def _per(prefix: str, count: int) -> tuple[str, ...]:
+    return tuple(f"{prefix}_{i}" for i in range(count))
 
 
-__all__ = ["env_observation_names", "observation_names"]
+def observation_layout(
+    n_joints: int, grip_sections: int = 0, privileged: bool = False
+) -> tuple[Block, ...]:
+    """What the robot senses, in order (``grip_sections``: the compliant grip's sections, 0
+    without it; ``privileged``: ``privileged_obs``)."""
+    n = n_joints
+    blocks = [
+        Block(_per("angle", n), "rad", "joint angles"),
+        Block(_per("velocity", n), "rad/s", "joint velocities"),
+        Block(
+            _per("torque", n),
+            "N m",
+            "joint torques (SEA: spring stiffness x deflection as the encoder counts it; servo: "
+            "its output)",
+        ),
+        Block(IMU[:4], "-", "head IMU orientation, quaternion (w, x, y, z)"),
+        Block(IMU[4:], "rad/s", "head IMU angular velocity"),
+        Block(("phase_cos", "phase_sin"), "-", "cos, sin of the gait phase of the next step"),
+        Block(_per("target", n), "rad", "base gait's target angles for the next step"),
+    ]
+    if grip_sections:
+        blocks += [
+            Block(
+                _per("grip_offset", grip_sections),
+                "-",
+                "each body section's squeeze offset, as a fraction of the grip's +-2 cm range",
+                "grip_target",
+            ),
+            Block(
+                _per("grip_force", grip_sections),
+                "N",
+                "each body section's grip force, measured from the spring torques",
+                "grip_target",
+            ),
+        ]
+    if privileged:
+        blocks += [
+            Block(PRIVILEGED[:3], "m", "centre of mass position", "privileged_obs"),
+            Block(PRIVILEGED[3:], "m/s", "centre of mass velocity", "privileged_obs"),
+        ]
+    return tuple(blocks)
+
+
+def action_layout(
+    n_joints: int,
+    modulated: tuple[str, ...] = (),
+    sections: int = 0,
+    grip: bool = False,
+    cadence: bool = False,
+) -> tuple[Block, ...]:
+    """What each action entry drives, in order: the joints' residuals, then per modulated gait
+    parameter one entry per body section (head first), then the grip's target per section, then
+    the cadence. Every entry is in [-1, 1]."""
+    blocks = [Block(_per("joint", n_joints), "residual_scale rad", "residual of each joint")]
+    for key in modulated:
+        blocks.append(
+            Block(
+                _per(f"{key}_section", sections),
+                "gait_modulation m",
+                f"offset of the gait's {key} in each body section",
+                "gait_modulation",
+            )
+        )
+    if grip:
+        blocks.append(
+            Block(
+                _per("grip_section", sections),
+                "grip_action_scale N",
+                "change of each section's grip target",
+                "grip_action_scale",
+            )
+        )
+    if cadence:
+        blocks.append(
+            Block(("cadence",), "-", "keyframes the gait advances this step", "phase_rate_range")
+        )
+    return tuple(blocks)
+
+
+def names(layout: tuple[Block, ...]) -> tuple[str, ...]:
+    """Every entry's name, in order."""
+    return tuple(name for block in layout for name in block.names)
+
+
+def size(layout: tuple[Block, ...]) -> int:
+    """The number of entries."""
+    return sum(block.size for block in layout)
+
+
+def env_observation_layout(env: Any) -> tuple[Block, ...]:
+    """:func:`observation_layout` of an ``ACLClimbEnv`` (unwrapped), from its config."""
+    config = env.config
+    sections = 0 if config.grip is None else config.gait.modulation_sections
+    return observation_layout(env.n_joints, sections, config.episode.privileged_obs)
+
+
+def env_action_layout(env: Any) -> tuple[Block, ...]:
+    """:func:`action_layout` of an ``ACLClimbEnv`` (unwrapped), from its config."""
+    gait, grip = env.config.gait, env.config.grip
+    return action_layout(
+        env.n_joints,
+        gait.modulated,
+        gait.modulation_sections,
+        grip=grip is not None and grip.action_scale > 0.0,
+        cadence=gait.phase_rate_range is not None,
+    )
+
+
+def env_observation_names(env: Any) -> tuple[str, ...]:
+    """The names of an ``ACLClimbEnv``'s (unwrapped) observation entries."""
+    return names(env_observation_layout(env))
+
+
+__all__ = [
+    "Block",
+    "action_layout",
+    "env_action_layout",
+    "env_observation_layout",
+    "env_observation_names",
+    "names",
+    "observation_layout",
+    "size",
+]

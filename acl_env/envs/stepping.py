@@ -29,7 +29,7 @@ class StepPhysics:
         self.contacts, self.readout = contacts, readout
         self.substeps = frame_skip // SLIP_SAMPLES  # physics steps per contact sample
         self.sample_dt = self.substeps * model.opt.timestep
-        # The firmware's ticks, for the grip (envs/arguments.py checks that they fit).
+        # The firmware's ticks, for the grip (envs/config.py checks that they fit).
         self.tick_steps = max(1, frame_skip // GRIP_TICKS)
         self.tick_dt = self.tick_steps * model.opt.timestep
         self.ticks_per_sample = GRIP_TICKS // SLIP_SAMPLES

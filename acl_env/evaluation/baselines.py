@@ -22,11 +22,12 @@ Controllers (episode ``i`` of every one resets with seed ``seed + i``):
   for climb is judged against that gait, the best open loop for climb);
 * ``open_loop_rolling_helix``: the rolling helix, zero action;
 * ``open_loop_tuned``: the best open-loop gait the tuner found for the task (its entry of the
-  shipped tuned gaits, :mod:`acl_env.tuned_gaits`, named in :data:`TASKS`), the non-rolling one
-  for a non-rolling policy, run on the policy's env (``acl_env/ACLClimbNoRollBase-v3``: its roll
-  term and roll limit apply; a policy on the superseded ``ACLClimbNoRollBase-v2`` is judged against
-  that env's own, ``acl_noroll_v2``); a gait tuned on given poles keeps the ``squeeze_slope`` of
-  the env it was tuned on; skipped with a note when the file has no such entry;
+  shipped tuned gaits, :mod:`acl_env.tuned_gaits`, named by :func:`task_baselines`), the
+  non-rolling one for a non-rolling policy, run on the policy's env
+  (``acl_env/ACLClimbNoRollBase-v3``: its roll term and roll limit apply; a policy on the
+  superseded ``ACLClimbNoRollBase-v2`` is judged against that env's own, ``acl_noroll_v2``); a
+  gait tuned on given poles keeps the ``squeeze_slope`` of the env it was tuned on; skipped with
+  a note when the file has no such entry;
 * ``compliant_acl`` (and ``compliant_acl_same_cadence`` when the policy sets the cadence): on
   the series elastic actuators, ``open_loop_tuned`` with the compliant grip tuned on it (entry
   ``<tuned key>_grip``, :mod:`acl_env.envs.grip`); the open loops above play without the grip.
@@ -46,31 +47,31 @@ from typing import Any
 import gymnasium
 
 from acl_env import (
-    ACL_CLIMB_BENCHMARK_ID,
-    ACL_CLIMB_COMPLIANT_ID,
     ACL_CLIMB_ID,
-    ACL_CLIMB_NOROLL_BENCHMARK_ID,
-    ACL_CLIMB_NOROLL_COMPLIANT_ID,
-    ACL_CLIMB_NOROLL_ID,
-    ACL_CLIMB_NOROLL_SEA_ID,
-    ACL_CLIMB_NOROLL_V2_ID,
-    ACL_CLIMB_SEA_ID,
-    BENCHMARK_BASES,
     ROLLING_HELIX_CLIMB_ID,
     current_id,
     pretrained,
     shipped,
     tuned_gaits,
 )
-from acl_env.actuators import DEFAULT_MODEL, actuator_model
 from acl_env.envs.kwargs import make_quietly
 from acl_env.evaluation.protocol import Policy, constant_cadence_policy, zero_policy
+from acl_env.evaluation.tasks import (
+    TRAINING_ONLY_KWARGS,
+    default_tuned_key,
+    env_setting,
+    is_elastic,
+    is_non_rolling,
+    on_benchmark_id,
+    sea_tuned_key,
+    spelled_on_base,
+    task_baselines,
+    tuned_gait,
+)
 from acl_env.pretrained import PolicySource
 
 DEFAULT_POLICY = shipped.policy_dir()
 DEFAULT_TUNED_GAITS = tuned_gaits.shipped_path()
-# Training-only env kwargs that evaluation drops from the policy's config.
-TRAINING_ONLY_KWARGS = ("domain_randomization",)
 # Kwargs tied to one base gait's shape: not passed to another gait's env, nor to the default
 # open loop (a policy trained on a reshaped gait, e.g. the tuned one, is still judged against
 # the env's default ACL gait and, separately, against the tuned one).
@@ -114,8 +115,6 @@ def policy_name(path: str | Path) -> str:
 
 # Run after the policy, at its mean phase rate.
 AT_POLICY_CADENCE = (SAME_CADENCE, TUNED_SAME_CADENCE, COMPLIANT_SAME_CADENCE)
-
-TunedGaitsError = tuned_gaits.TunedGaitsError
 
 
 @dataclass(frozen=True)
@@ -184,218 +183,30 @@ def read_policy(path: str | Path) -> PolicySource:
     return read_sb3_folder(path)
 
 
-# --- the baselines of each task, as data ---------------------------------------------------------
-
-
 @dataclass(frozen=True)
-class TaskBaselines:
-    """What a policy trained on one env id is judged against."""
+class _Setting:
+    """Where the controllers of one evaluation play: ``base``, the policy's env kwargs over its
+    id's defaults (with the evaluation's overrides and reward weights); ``open_loop``, those
+    without the policy's own actions; ``other_gait``, those without the gait's shape; the
+    policy's id and the task it was trained on (``task_kwargs``); ``acl_id``/``acl_kwargs``, where
+    the task's gait plays open loop; ``sets_cadence``, whether the policy sets the cadence."""
 
-    base_gait: str  # the registered base gait; "acl": open_loop_acl plays on this env id
-    non_rolling: bool  # the registered gait has rolls_per_cycle 0: the tuned gait runs here too
-    tuned_key: str  # the tuned-gaits entry played as open_loop_tuned
-
-
-TASKS: dict[str, TaskBaselines] = {
-    ACL_CLIMB_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl"),
-    # A helix policy meets open-loop ACL on ACLClimbPaperGait-v1 and the rolling tuned gait.
-    ROLLING_HELIX_CLIMB_ID: TaskBaselines(
-        base_gait="rolling_helix", non_rolling=False, tuned_key="acl"
-    ),
-    ACL_CLIMB_NOROLL_ID: TaskBaselines(base_gait="acl", non_rolling=True, tuned_key="acl_noroll"),
-    # Superseded: its policies keep the tuned gait their published evaluations played (the study
-    # on v1's gait tables; v3's entry is the same study rerun on v2's).
-    ACL_CLIMB_NOROLL_V2_ID: TaskBaselines(
-        base_gait="acl", non_rolling=True, tuned_key="acl_noroll_v2"
-    ),
-    # The benchmark ids: their policies are judged as on their base ids with the recipe's kwargs
-    # (spelled_on_base); these entries serve a direct lookup.
-    ACL_CLIMB_BENCHMARK_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl"),
-    ACL_CLIMB_NOROLL_BENCHMARK_ID: TaskBaselines(
-        base_gait="acl", non_rolling=True, tuned_key="acl_noroll"
-    ),
-    # The SEA tasks: gaits tuned on the SEA (sea_tuned_key).
-    ACL_CLIMB_SEA_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl_sea"),
-    ACL_CLIMB_NOROLL_SEA_ID: TaskBaselines(
-        base_gait="acl", non_rolling=True, tuned_key="acl_noroll_sea"
-    ),
-    # The compliant task: judged against the SEA's tuned open loop and compliant_acl.
-    ACL_CLIMB_COMPLIANT_ID: TaskBaselines(base_gait="acl", non_rolling=False, tuned_key="acl_sea"),
-    ACL_CLIMB_NOROLL_COMPLIANT_ID: TaskBaselines(
-        base_gait="acl", non_rolling=True, tuned_key="acl_noroll_sea"
-    ),
-}
-# The tuned-gaits entry for a gait whose rolling is not its task's (a non-rolling gait given as
-# --env-kwargs to open-loop ACL), or on an env id TASKS does not list, per non-rolling flag.
-TUNED_KEYS = {False: "acl", True: "acl_noroll"}
+    base: dict[str, Any]
+    open_loop: dict[str, Any]
+    other_gait: dict[str, Any]
+    policy_id: str
+    task_kwargs: dict[str, Any]
+    acl_id: str
+    acl_kwargs: dict[str, Any]
+    sets_cadence: bool
 
 
-def env_setting(env_id: str, env_kwargs: dict[str, Any], key: str, default: Any = None) -> Any:
-    """An env argument as the env will see it: the call's kwargs over the registration's."""
-    return {**(gymnasium.spec(env_id).kwargs or {}), **env_kwargs}.get(key, default)
-
-
-def is_elastic(env_id: str, env_kwargs: dict[str, Any]) -> bool:
-    """Do this env's joints have springs (its actuator model's ``elastic``)? Then its gaits are
-    the ones tuned on the SEA, and the compliant grip can read them."""
-    name = env_setting(env_id, env_kwargs, "actuator_model", DEFAULT_MODEL)
-    return actuator_model(name).elastic
-
-
-def task_baselines(env_id: str) -> TaskBaselines:
-    """The entry of :data:`TASKS` for ``env_id``; an env id another package registers
-    (``--gym-packages``) gets one read off its registration."""
-    env_id = current_id(env_id)
-    if env_id in TASKS:
-        return TASKS[env_id]
-    non_rolling = (env_setting(env_id, {}, "gait_kwargs") or {}).get("rolls_per_cycle", 1) == 0
-    base_gait = env_setting(env_id, {}, "base_gait", "acl")
-    return TaskBaselines(
-        base_gait=base_gait, non_rolling=non_rolling, tuned_key=TUNED_KEYS[non_rolling]
-    )
-
-
-def is_non_rolling(env_id: str, env_kwargs: dict[str, Any]) -> bool:
-    """Does this env's base gait have ``rolls_per_cycle`` 0? ``gait_kwargs`` given in
-    ``env_kwargs`` replace the registered gait's; else the task says."""
-    if "gait_kwargs" in env_kwargs:
-        return (env_kwargs["gait_kwargs"] or {}).get("rolls_per_cycle", 1) == 0
-    return task_baselines(env_id).non_rolling
-
-
-def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
-    """The tuned-gaits entry evaluation plays as ``open_loop_tuned`` for a policy on ``env_id``:
-    its task's (:data:`TASKS`), unless the gait played rolls otherwise than the task's."""
-    task = TASKS.get(current_id(env_id)) if env_id is not None else None
-    if task is not None and task.non_rolling == non_rolling:
-        return task.tuned_key
-    return TUNED_KEYS[non_rolling]
-
-
-def sea_tuned_key(key: str) -> str:
-    """The entry tuned on the series elastic actuators for the servo's entry ``key``: a gait is
-    compared with the best open loop on the same physics (``acl`` -> ``acl_sea``)."""
-    return key if key.endswith("_sea") else f"{key}_sea"
-
-
-# --- the tuned gait ------------------------------------------------------------------------------
-
-
-def shown_path(path: str | Path) -> str:
-    """``path`` as the records show it: a shipped file as ``acl_env/...``, one under the working
-    folder relative to it, so that a committed evaluation JSON names no folder of the machine it
-    was made on."""
-    resolved = Path(path).resolve()
-    package = shipped.data_path().parent.resolve()
-    if resolved.is_relative_to(package):
-        return str(Path("acl_env") / resolved.relative_to(package))
-    cwd = Path.cwd().resolve()
-    return str(resolved.relative_to(cwd)) if resolved.is_relative_to(cwd) else str(path)
-
-
-def tuned_gait(
-    path: Path,
-    reward_weights: dict[str, float] | None,
-    non_rolling: bool,
-    key: str | None = None,
-    env_id: str | None = None,
-) -> tuple[tuple[str, dict[str, Any]] | None, str]:
-    """``(env_id, env_kwargs)`` of the tuned open-loop gait (the shipped tuned gaits, or a file
-    written by ``acl-tune-gait``; entry ``key``, by default :func:`default_tuned_key` of the
-    policy's ``env_id``), and a note that says which, or why there is none (``None``). A
-    malformed file raises :class:`TunedGaitsError`."""
-    # Imported here: acl_env.envs loads MuJoCo, which picks its GL backend then (cli sets it).
-    from acl_env.envs.rewards import DEFAULT_REWARD_WEIGHTS
-
-    key = key or default_tuned_key(env_id, non_rolling)
-    shown = shown_path(path)
-    if not path.is_file():
-        return None, f"{shown} does not exist (run acl-tune-gait)"
-    entry = tuned_gaits.read(path).get(key)
-    if entry is None:
-        flag = " --no-roll" if non_rolling else ""
-        return None, f"{shown} has no {key!r} entry (run acl-tune-gait{flag})"
-    try:
-        tuned_id, env_kwargs = entry["env_id"], dict(entry["env_kwargs"])
-        tuned_for = {**DEFAULT_REWARD_WEIGHTS, **(entry.get("reward_weights") or {})}
-        objective = entry["objective"]
-        on_poles = "pole_radius" in (entry.get("condition") or {})
-    except (AttributeError, KeyError, TypeError, ValueError) as error:
-        raise TunedGaitsError(f"{shown}: not a tuned-gaits file ({error})") from None
-    tuned_id = current_id(tuned_id)  # an entry tuned on a task's old id: the same task
-    if tuned_id not in gymnasium.registry:
-        return None, f"{shown}: {key!r} was tuned on {tuned_id}, not registered: re-run the tuner"
-    if on_poles:
-        # Tuned on given poles, its squeeze is the one it had there: it keeps the squeeze_slope
-        # of the env it was tuned on (0 before v3), not the one of the env it is played on. A gait
-        # tuned on the default pole, where the slope never acts, takes that env's slope.
-        slope = env_setting(tuned_id, env_kwargs, "squeeze_slope", 0.0)
-        env_kwargs.setdefault("squeeze_slope", slope)
-    weights = {**DEFAULT_REWARD_WEIGHTS, **(reward_weights or {})}
-    note = f"{shown}: {key!r}, best of {entry.get('trials', '?')} trials for {objective}"
-    if {k: float(v) for k, v in tuned_for.items()} != {k: float(v) for k, v in weights.items()}:
-        note += f" under reward_weights {tuned_for}, NOT the {weights} evaluated here"
-    return (tuned_id, env_kwargs), note
-
-
-# --- which controllers ---------------------------------------------------------------------------
-
-
-def evaluation_env_kwargs(folder: PolicySource) -> dict[str, Any]:
-    """The policy's training env kwargs less the training-only ones (domain randomisation):
-    the conditions it is evaluated under before any override (``tuned_gait`` resolved)."""
-    kwargs = {k: v for k, v in folder.env_kwargs.items() if k not in TRAINING_ONLY_KWARGS}
-    return tuned_gaits.resolve(kwargs)
-
-
-def spelled_on_base(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
-    """A benchmark id's task as its base id plus keyword arguments (``acl_env.BENCHMARK_BASES``:
-    ACLClimbServo-v1 is ACLClimbPaperGait-v1 with the shipped recipe's kwargs), so a policy on
-    either spelling meets the same baselines; any other id as it is."""
-    env_id = current_id(env_id)  # a policy made on a task's old id: the same task
-    base_id = BENCHMARK_BASES.get(env_id)
-    if base_id is None:
-        return env_id, dict(env_kwargs)
-    own, base = gymnasium.spec(env_id).kwargs or {}, gymnasium.spec(base_id).kwargs or {}
-    extra = {k: list(v) if isinstance(v, tuple) else v for k, v in own.items() if base.get(k) != v}
-    return base_id, {**extra, **env_kwargs}
-
-
-def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
-    """The inverse of :func:`spelled_on_base`: a base id whose kwargs spell a benchmark task as
-    that benchmark id and the kwargs left over (domain randomisation); any other as it is."""
-    env_id = current_id(env_id)  # a task's old id: the same task
-    # The most specific first: ACLClimb-v3 is ACLClimbServo-v1's kwargs and the SEA.
-    candidates = [
-        (benchmark, spelled_on_base(benchmark, {})[1])
-        for benchmark, base_id in BENCHMARK_BASES.items()
-        if base_id == env_id
-    ]
-    actuator = env_kwargs.get("actuator_model", env_setting(env_id, {}, "actuator_model"))
-    actuator = actuator or DEFAULT_MODEL
-    for benchmark, implied in sorted(candidates, key=lambda item: -len(item[1])):
-        # The actuator model names the task: a servo id with actuator_model="sea" left over
-        # would contradict itself.
-        if env_setting(benchmark, {}, "actuator_model", DEFAULT_MODEL) != actuator:
-            continue
-        if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
-            return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
-    return env_id, dict(env_kwargs)
-
-
-def build_controllers(
-    folder: PolicySource | None,
-    overrides: dict[str, Any],
-    reward_weights: dict[str, float] | None,
-    tuned_path: Path,
-    tuned_key: str | None = None,
-    trust_pickles: bool = False,
-) -> tuple[list[Controller], list[str]]:
-    """The controllers to compare, all under the same conditions, and notes on any skipped
-    (``tuned_key``: the tuned-gaits entry, by default :func:`default_tuned_key`;
-    ``trust_pickles``: the policy, when an SB3 folder, may load its pickles)."""
+def _setting(
+    folder: PolicySource | None, overrides: dict[str, Any], reward_weights: dict[str, float] | None
+) -> _Setting:
     base: dict[str, Any] = {}
     acl_id = policy_id = ACL_CLIMB_ID
+    task_kwargs: dict[str, Any] = {}
     if folder is not None:
         policy_id, spelled = spelled_on_base(folder.env_id, folder.env_kwargs)
         base = tuned_gaits.resolve(
@@ -420,79 +231,106 @@ def build_controllers(
         k: v for k, v in base.items() if k not in POLICY_ACTION_KWARGS and k not in GRIP_KWARGS
     }
     other_gait = {k: v for k, v in open_loop.items() if k not in GAIT_KWARGS}
-    controllers, notes = [], []
-    acl_kwargs = open_loop  # without a policy: the ACL env with --env-kwargs, gait kwargs included
-    if folder is not None:
-        acl_kwargs = other_gait
-        controllers.append(
-            Controller(
-                "policy",
-                policy_id,
-                base,
-                str(folder.path),
-                trust_pickles=trust_pickles,
-                task_id=current_id(folder.env_id),
-                task_kwargs=task_kwargs,
-            )
-        )
-        if base.get("base_gait", task_baselines(policy_id).base_gait) == "acl":
-            # The registered gait of the policy's env (ACLClimbNoRollBase-v3: the non-rolling one),
-            # without any reshaping of it the policy was trained on.
-            acl_id = policy_id
-    acl_label = "" if acl_id == ACL_CLIMB_ID else "the task's gait"  # else LABELS' word
-    controllers.append(Controller("open_loop_acl", acl_id, acl_kwargs, label=acl_label))
+    # Without a policy: the ACL env with --env-kwargs, gait kwargs included. With one whose base
+    # gait is ACL: the registered gait of the policy's env (ACLClimbNoRollBase-v3: the
+    # non-rolling one), without any reshaping of it the policy was trained on.
+    acl_kwargs = open_loop if folder is None else other_gait
+    if folder is not None and base.get("base_gait", task_baselines(policy_id).base_gait) == "acl":
+        acl_id = policy_id
     sets_cadence = (
         folder is not None and env_setting(policy_id, open_loop, "phase_rate_range") is not None
     )
+    return _Setting(
+        base, open_loop, other_gait, policy_id, task_kwargs, acl_id, acl_kwargs, sets_cadence
+    )
+
+
+def build_controllers(
+    folder: PolicySource | None,
+    overrides: dict[str, Any],
+    reward_weights: dict[str, float] | None,
+    tuned_path: Path,
+    tuned_key: str | None = None,
+    trust_pickles: bool = False,
+) -> tuple[list[Controller], list[str]]:
+    """The controllers to compare, all under the same conditions, and notes on any skipped
+    (``tuned_key``: the tuned-gaits entry, by default :func:`default_tuned_key`;
+    ``trust_pickles``: the policy, when an SB3 folder, may load its pickles)."""
+    at = _setting(folder, overrides, reward_weights)
+    controllers: list[Controller] = []
+    notes: list[str] = []
     if folder is not None:
-        if sets_cadence:
+        policy = Controller(
+            "policy",
+            at.policy_id,
+            at.base,
+            str(folder.path),
+            trust_pickles=trust_pickles,
+            task_id=current_id(folder.env_id),
+            task_kwargs=at.task_kwargs,
+        )
+        controllers.append(policy)
+    acl_label = "" if at.acl_id == ACL_CLIMB_ID else "the task's gait"  # else LABELS' word
+    controllers.append(Controller("open_loop_acl", at.acl_id, at.acl_kwargs, label=acl_label))
+    if folder is not None:
+        if at.sets_cadence:
             # The policy's own base gait (reshaped or not) at the policy's cadence: what the
             # policy adds beyond running its gait faster.
-            same = Controller(SAME_CADENCE, policy_id, open_loop, phase_rate=1.0)
-            controllers.append(same)
+            controllers.append(Controller(SAME_CADENCE, at.policy_id, at.open_loop, phase_rate=1.0))
         else:
             notes.append(f"{SAME_CADENCE}: skipped, the policy does not set the cadence")
-    controllers.append(Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, other_gait))
-    non_rolling = is_non_rolling(acl_id, acl_kwargs)
-    weights = base.get("reward_weights")
-    if tuned_key is None and is_elastic(acl_id, acl_kwargs):
-        tuned_key = sea_tuned_key(default_tuned_key(acl_id, non_rolling))
-    tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, acl_id)
+    helix = Controller("open_loop_rolling_helix", ROLLING_HELIX_CLIMB_ID, at.other_gait)
+    controllers.append(helix)
+    return _tuned(at, folder is not None, controllers, notes, tuned_path, tuned_key)
+
+
+def _tuned(
+    at: _Setting,
+    has_policy: bool,
+    controllers: list[Controller],
+    notes: list[str],
+    tuned_path: Path,
+    tuned_key: str | None,
+) -> tuple[list[Controller], list[str]]:
+    """``controllers`` and ``notes`` with the tuned gait's controllers added (its own gait's, at
+    the policy's cadence, and the compliant grip's), or notes on why not."""
+    non_rolling = is_non_rolling(at.acl_id, at.acl_kwargs)
+    if tuned_key is None and is_elastic(at.acl_id, at.acl_kwargs):
+        tuned_key = sea_tuned_key(default_tuned_key(at.acl_id, non_rolling))
+    weights = at.base.get("reward_weights")
+    tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, at.acl_id)
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
-    on_tuned = tuned is not None and all(open_loop.get(k) == v for k, v in tuned[1].items())
-    reshaped = any(k in open_loop for k in GAIT_KWARGS)
-    if on_tuned and sets_cadence:  # the policy's gait at its cadence is the tuned gait there
+    on_tuned = tuned is not None and all(at.open_loop.get(k) == v for k, v in tuned[1].items())
+    if on_tuned and at.sets_cadence:  # the policy's gait at its cadence is the tuned gait there
         controllers = [
             replace(c, label=LABELS[TUNED_SAME_CADENCE]) if c.name == SAME_CADENCE else c
             for c in controllers
         ]
-    if folder is not None and reshaped and not sets_cadence:
+    if has_policy and any(k in at.open_loop for k in GAIT_KWARGS) and not at.sets_cadence:
         if on_tuned:
             notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
         else:  # the policy's own gait, zero action: what the residual adds to it
-            controllers.append(Controller(POLICY_GAIT, policy_id, open_loop))
+            controllers.append(Controller(POLICY_GAIT, at.policy_id, at.open_loop))
     if tuned is None:
         notes.append(f"open_loop_tuned: skipped, {note}")
-    else:
-        tuned_id, tuned_kwargs = tuned
-        if non_rolling:
-            # The non-rolling tuned gait runs on the env the policy is judged on (with a zero
-            # action): the non-rolling task's roll term and roll_limit apply to it as well.
-            tuned_id = acl_id
-        kwargs = {k: v for k, v in other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
-        if env_setting(tuned_id, {}, "tuned_gait") is not None:
-            kwargs["tuned_gait"] = None  # the entry's gait, not the one tuned_id registers
-        controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
-        notes.append(f"open_loop_tuned: {note}")
-        if sets_cadence:
-            if on_tuned:
-                notes.append(
-                    f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one, so {SAME_CADENCE} "
-                    "plays it"
-                )
-            else:  # the best open loop at the policy's cadence
-                controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))
-        controllers += _compliant(tuned_path, tuned_key, tuned_id, kwargs, sets_cadence, notes)
+        return controllers, notes
+    tuned_id, tuned_kwargs = tuned
+    if non_rolling:
+        # The non-rolling tuned gait runs on the env the policy is judged on (with a zero
+        # action): the non-rolling task's roll term and roll_limit apply to it as well.
+        tuned_id = at.acl_id
+    kwargs = {k: v for k, v in at.other_gait.items() if k not in tuned_kwargs} | tuned_kwargs
+    if env_setting(tuned_id, {}, "tuned_gait") is not None:
+        kwargs["tuned_gait"] = None  # the entry's gait, not the one tuned_id registers
+    controllers.append(Controller("open_loop_tuned", tuned_id, kwargs))
+    notes.append(f"open_loop_tuned: {note}")
+    if at.sets_cadence and on_tuned:
+        notes.append(
+            f"{TUNED_SAME_CADENCE}: the policy's gait is the tuned one, so {SAME_CADENCE} plays it"
+        )
+    elif at.sets_cadence:  # the best open loop at the policy's cadence
+        controllers.append(Controller(TUNED_SAME_CADENCE, tuned_id, kwargs, phase_rate=1.0))
+    controllers += _compliant(tuned_path, tuned_key, tuned_id, kwargs, at.sets_cadence, notes)
     return controllers, notes
 
 
@@ -513,7 +351,7 @@ def _compliant(
         return []
     try:
         grip = tuned_gaits.grip(key, tuned_path)
-    except TunedGaitsError as error:
+    except tuned_gaits.TunedGaitsError as error:
         notes.append(f"{COMPLIANT}: skipped, {error}")
         return []
     trials = tuned_gaits.entry(key, tuned_path).get("trials", "?")

@@ -22,23 +22,22 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from acl_env import cli, current_id, shipped
+from acl_env import cli, current_id, shipped, tuned_gaits
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
     SAME_CADENCE,
     Controller,
-    TunedGaitsError,
     build_controllers,
     is_policy,
     read_policy,
-    shown_path,
 )
 from acl_env.evaluation.figures import plot_heights, record_video
 from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
 from acl_env.evaluation.runner import PolicySetError, evaluate, policies_controllers
 from acl_env.evaluation.statistics import MIN_SEEDS, over_seeds
+from acl_env.evaluation.tasks import shown_path
 from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
 
@@ -115,7 +114,7 @@ def make_parser() -> cli.ArgumentParser:
     parser.add_argument(
         "--tuned-key",
         help="entry of --tuned-gaits to play as open_loop_tuned (default: the policy's task's, "
-        "acl_env.evaluation.baselines.TASKS)",
+        "acl_env.evaluation.tasks.task_baselines)",
     )
     parser.add_argument(
         "--json", type=cli.output_file(".json"), help="write the record here (.json)"
@@ -254,7 +253,7 @@ def _built_controllers(
                 args.tuned_key,
                 args.trust_pickles,
             )
-    except TunedGaitsError as error:
+    except tuned_gaits.TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
     except PolicySetError as error:
         parser.error(f"argument --policy: {error}")

@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from acl_env import cli
-from acl_env.evaluation.baselines import on_benchmark_id
 from acl_env.evaluation.records import evaluation_summary
+from acl_env.evaluation.tasks import on_benchmark_id
 from acl_env.io import atomic_write, console_script, read_json, write_json
 from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
 from acl_env.training.policy import PolicyFolder, read_sb3_folder

@@ -12,7 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-from acl_env.evaluation.baselines import AT_POLICY_CADENCE, Controller, is_policy
+from acl_env.evaluation.baselines import (
+    AT_POLICY_CADENCE,
+    Controller,
+    is_policy,
+)
 from acl_env.evaluation.protocol import Episode, mean_ci95, run_episode
 
 

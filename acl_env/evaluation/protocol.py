@@ -337,7 +337,8 @@ def cadence_action(phase_rate: float, phase_rate_range: Sequence[float]) -> floa
 def constant_cadence_policy(env: gymnasium.Env, phase_rate: float) -> Policy:
     """The open-loop gait (zero residual) played at ``phase_rate`` keyframes per step; the env
     must have the cadence option (``phase_rate_range``)."""
-    rate_range = getattr(env.unwrapped, "phase_rate_range", None)
+    config = getattr(env.unwrapped, "config", None)  # an ACLClimbEnv's (envs/config.py)
+    rate_range = None if config is None else config.gait.phase_rate_range
     if rate_range is None:
         raise ValueError("a constant cadence needs an env with phase_rate_range set")
     action = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)

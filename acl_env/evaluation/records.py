@@ -143,8 +143,8 @@ def metric_values(record: Mapping[str, Any], controller: str, metric: str) -> li
 def evaluation_summary(record_path: str | Path, shown: str | None = None) -> dict[str, Any]:
     """Per controller of a published evaluation record, the mean and 95 % half-width of
     :data:`SUMMARY_METRICS` (and the number of falls); the record named ``shown``, by default
-    as :func:`~acl_env.evaluation.baselines.shown_path` shows it from the working folder."""
-    from acl_env.evaluation.baselines import shown_path  # the env stack: imported when needed
+    as :func:`~acl_env.evaluation.tasks.shown_path` shows it from the working folder."""
+    from acl_env.evaluation.tasks import shown_path  # the env stack: imported when needed
 
     record = read_record(Path(record_path))
     controllers: dict[str, Any] = {}

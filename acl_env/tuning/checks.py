@@ -8,7 +8,7 @@ one line before it creates a study, runs a trial or writes a file. Accepted rang
 - ``--seeds``: integers in [0, 2**31 - 1]; ``--sampler-seed``: [0, 2**32 - 1];
 - ``--n-trials`` [1, 10**6], ``--n-jobs`` [1, 1024], ``--validate-seeds`` [0, 1000],
   ``--validate-top`` [1, 1000], ``--heartbeat`` [0, 3600] s (0: off);
-- ``--steps-per-cycle``, ``--cycles``: the env's ranges (:mod:`acl_env.envs.arguments`);
+- ``--steps-per-cycle``, ``--cycles``: the env's ranges (:mod:`acl_env.envs.config`);
 - ``--reward-weights``: numbers within +-``MAX_REWARD_WEIGHT`` (as ``acl-evaluate``'s), then
   the env's own checks; ``--condition``: finite numbers, then the env's ranges;
 - ``--output``: a ``.json`` (or older ``.yml``/``.yaml``) file whose folder can be written, and,

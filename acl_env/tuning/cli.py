@@ -30,7 +30,8 @@ import yaml
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, shipped, tuned_gaits
 from acl_env.cli import ArgumentParser, pairs_to_dict, reward_weight
 from acl_env.constants import DEFAULT_STEPS_PER_CYCLE
-from acl_env.envs.arguments import CYCLES_PER_EPISODE_RANGE, STEPS_PER_CYCLE_RANGE
+from acl_env.envs.config import CYCLES_PER_EPISODE_RANGE
+from acl_env.envs.gait_config import STEPS_PER_CYCLE_RANGE
 from acl_env.gait.gaits import DEFAULT_POLE_RADIUS
 from acl_env.io import atomic_write, console_script, jsonable
 from acl_env.training.config import load_hyperparams

@@ -127,8 +127,10 @@ def rollout_all(
         episodes += runs
         where = f"seed {seeds[len(runs) - 1]}"
         if len(envs) > 1:
-            u = env.unwrapped
-            where += f" at pole {u.pole_radius} m, friction {u.friction}, kp {u.kp}"
+            physics, actuator = env.unwrapped.config.physics, env.unwrapped.config.actuator
+            stiffness = actuator.model.stiffness
+            where += f" at pole {physics.pole_radius} m, friction {physics.friction}, "
+            where += f"{stiffness} {actuator.values[stiffness]}"
         if runs[-1]["falls"] or runs[-1]["rolled"]:
             break
     return episodes, where

@@ -22,9 +22,10 @@ from typing import Any
 from acl_env import ACL_CLIMB_ID, shipped, tuned_gaits
 from acl_env.envs.rewards import check_reward_weights
 from acl_env.evaluation import summarize
-from acl_env.evaluation.baselines import Controller, TunedGaitsError, shown_path, tuned_gait
+from acl_env.evaluation.baselines import Controller
 from acl_env.evaluation.records import controller_summary, read_record
 from acl_env.evaluation.runner import evaluate
+from acl_env.evaluation.tasks import shown_path, tuned_gait
 from acl_env.scripts import KeyValues, make_parser, save_figure, use_agg, write_output
 from acl_env.training import config
 
@@ -44,7 +45,7 @@ def gait_controllers(
     malformed file) at each cadence, and the note saying which gait and for which weights."""
     gait, note = tuned_gait(path, reward_weights, non_rolling=False)
     if gait is None:
-        raise TunedGaitsError(note)
+        raise tuned_gaits.TunedGaitsError(note)
     env_id, env_kwargs = gait
     kwargs = {
         **env_kwargs,
@@ -143,7 +144,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     for path in args.tuned_gaits:
         try:
             gaits, note = gait_controllers(Path(path), args.rates, weights)
-        except TunedGaitsError as error:
+        except tuned_gaits.TunedGaitsError as error:
             parser.error(f"argument --tuned-gaits: {error}")
         print(note)
         controllers += gaits

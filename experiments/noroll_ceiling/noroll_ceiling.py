@@ -202,8 +202,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     if args.policy_eval is not None and not args.policy_eval.is_file():
         parser.error(f"argument --policy-eval: no such file {str(args.policy_eval)!r}")
     probe = gymnasium.make(args.env)
-    gait_kwargs = dict(getattr(probe.unwrapped, "gait_kwargs", {}))
-    roll_limit = getattr(probe.unwrapped, "roll_limit", None)
+    config = probe.unwrapped.config
+    gait_kwargs, roll_limit = dict(config.gait.gait_kwargs), config.episode.roll_limit
     probe.close()
     if gait_kwargs.get("rolls_per_cycle", 1.0) != 0.0 or roll_limit is None:
         parser.error(

@@ -23,12 +23,11 @@ from typing import Any
 
 import numpy as np
 
-from acl_env import cli
+from acl_env import cli, tuned_gaits
 from acl_env.evaluation import summarize
 from acl_env.evaluation.baselines import (
     DEFAULT_POLICY,
     DEFAULT_TUNED_GAITS,
-    TunedGaitsError,
     build_controllers,
 )
 from acl_env.evaluation.runner import evaluate, make_pool
@@ -142,7 +141,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
         _, notes = build_controllers(
             folder, shared, None, args.tuned_gaits, args.tuned_key, args.trust_pickles
         )
-    except TunedGaitsError as error:
+    except tuned_gaits.TunedGaitsError as error:
         parser.error(f"argument --tuned-gaits: {error}")
     if args.tuned_key is not None and any(n.startswith("open_loop_tuned: skipped") for n in notes):
         parser.error(f"argument --tuned-key: no {args.tuned_key!r} in {args.tuned_gaits}")

@@ -32,7 +32,7 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
-from acl_env.evaluation.baselines import evaluation_env_kwargs
+from acl_env.evaluation.tasks import evaluation_env_kwargs
 from acl_env.scripts import parse_policy_args, policy_parser, save_figure, use_agg, write_outputs
 from acl_env.training.policy import load_policy, read_policy_folder
 
@@ -120,7 +120,7 @@ def run(
     return {
         "policy": str(policy_dir),
         "env_id": folder.env_id,
-        "residual_scale": float(env.unwrapped.residual_scale),
+        "residual_scale": float(env.unwrapped.config.gait.residual_scale),
         "episodes": episodes,
         "env_kwargs": overrides,
         "rows": rows,

@@ -30,7 +30,7 @@ def climb_and_slip(
 
     def act(obs: np.ndarray) -> np.ndarray:
         keyframe, base = int(env._keyframe), env._base_target()
-        action = np.clip(residual(keyframe, base) / env.residual_scale, -1.0, 1.0)
+        action = np.clip(residual(keyframe, base) / env.config.gait.residual_scale, -1.0, 1.0)
         return action if rate_action is None else np.append(action, rate_action)
 
     runs = [run_episode(env, act, seed).metrics() for seed in range(seeds)]

@@ -33,8 +33,8 @@ from acl_env.evaluation.baselines import (
     SAME_CADENCE,
     Controller,
     build_controllers,
-    shown_path,
 )
+from acl_env.evaluation.tasks import shown_path
 from acl_env.scripts import (
     add_trust_pickles,
     make_parser,

@@ -1,0 +1,105 @@
+"""The observation and action layouts (``acl_env.envs.observations``) are the env's spaces: sizes,
+names, and what each block holds; the env's options as typed configs (``acl_env.envs.config``)."""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import acl_env
+from acl_env.envs import ACLClimbEnv
+from acl_env.envs.config import ARGUMENTS, DEFAULTS, EnvConfig
+from acl_env.envs.observations import (
+    env_action_layout,
+    env_observation_layout,
+    names,
+    size,
+)
+
+OPTIONS = [
+    {},
+    {"actuator_model": "sea"},
+    {"privileged_obs": True},
+    {"phase_rate_range": (0.5, 2.0), "gait_modulation": {"squeeze": 0.003}},
+    {"actuator_model": "sea", "grip_target": 5.0, "grip_action_scale": 50.0},
+    {"actuator_model": "sea", "grip_target": 5.0, "modulation_sections": 2, "n_joints": 8},
+]
+
+
+def _block(env: ACLClimbEnv, obs: np.ndarray, first: str) -> np.ndarray:
+    """The entries of the block whose first entry is called ``first``."""
+    start = 0
+    for block in env_observation_layout(env):
+        if block.names[0] == first:
+            return obs[start : start + block.size]
+        start += block.size
+    raise KeyError(first)
+
+
+@pytest.mark.parametrize("kwargs", OPTIONS)
+def test_the_spaces_are_the_layouts(kwargs: dict) -> None:
+    env = ACLClimbEnv(**kwargs)
+    observations, actions = env_observation_layout(env), env_action_layout(env)
+    assert env.observation_space.shape == (size(observations),)
+    assert env.action_space.shape == (size(actions),)
+    assert env.action_names == names(actions)
+    assert len(set(names(observations))) == size(observations)  # every entry named once
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == env.observation_space.shape
+    # The blocks hold what they name.
+    n = env.n_joints
+    np.testing.assert_array_equal(_block(env, obs, "target_0"), env._base_target())
+    angle = 2.0 * math.pi * env._keyframe / env.steps_per_cycle
+    np.testing.assert_allclose(_block(env, obs, "phase_cos"), [math.cos(angle), math.sin(angle)])
+    if kwargs.get("actuator_model") is None:  # the servo reads the joints without delay
+        np.testing.assert_array_equal(_block(env, obs, "angle_0"), env.data.qpos[7 : 7 + n])
+    if env.config.grip is not None:
+        np.testing.assert_array_equal(_block(env, obs, "grip_force_0"), env._grip.force)
+    if env.config.episode.privileged_obs:
+        np.testing.assert_array_equal(_block(env, obs, "com_x"), env._com_view)
+    env.close()
+
+
+def test_the_compliant_task_observes_97_values_named_by_the_layout() -> None:
+    env = gym.make("acl_env/ACLClimbCompliant-v1").unwrapped
+    assert env.observation_space.shape == (97,)
+    assert names(env_observation_layout(env))[-8:] == (
+        *(f"grip_offset_{s}" for s in range(4)),
+        *(f"grip_force_{s}" for s in range(4)),
+    )
+    assert env.action_names[-5:] == (*(f"grip_section_{s}" for s in range(4)), "cadence")
+    env.close()
+
+
+def test_the_signature_is_the_declared_arguments() -> None:
+    """``ARGUMENTS`` is the constructor's signature, with its defaults; every registered id's
+    keyword arguments are among them."""
+    parameters = inspect.signature(ACLClimbEnv).parameters
+    assert list(parameters) == [a.name for a in ARGUMENTS]
+    assert {k: p.default for k, p in parameters.items()} == DEFAULTS
+    for env_id in (k for k in gym.registry if k.startswith("acl_env/")):
+        assert set(gym.spec(env_id).kwargs) <= set(DEFAULTS), env_id
+
+
+def test_each_concern_is_a_typed_config() -> None:
+    config = gym.make("acl_env/ACLClimbCompliant-v1").unwrapped.config
+    assert isinstance(config, EnvConfig)
+    assert config.physics.pole_radius == 0.075 and config.physics.frame_skip == 30
+    assert config.actuator.model.name == "sea"
+    assert config.actuator.values["spring_stiffness"] == 20.0
+    assert config.gait.tuned_gait == "acl_sea" and config.gait.phase_rate_range == (0.5, 2.0)
+    assert config.grip is not None and config.grip.action_scale > 0.0
+    assert config.episode.cycles_per_episode == 2 and config.render.camera_name == "track"
+    with pytest.raises(AttributeError):
+        config.physics.pole_radius = 0.1  # type: ignore[misc]  # frozen: checked once
+
+
+def test_an_unknown_keyword_argument_is_a_type_error_naming_it() -> None:
+    with pytest.raises(TypeError, match="unexpected keyword argument 'pole_radus'"):
+        ACLClimbEnv(pole_radus=0.08)
+    with pytest.raises(TypeError, match="unexpected keyword argument"):
+        gym.make(acl_env.ACL_CLIMB_SEA_ID, spring_stifness=20.0)

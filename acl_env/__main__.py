@@ -30,7 +30,8 @@ from acl_env.io import console_script
 ENV_IDS = {"acl": ACL_CLIMB_SEA_ID, "rolling_helix": ROLLING_HELIX_CLIMB_ID}
 
 
-def main(argv: list[str] | None = None) -> None:
+def make_parser() -> argparse.ArgumentParser:
+    """The command line of ``python -m acl_env``."""
     parser = argparse.ArgumentParser(description="Play the open-loop climbing gait.")
     parser.add_argument(
         "--gait",
@@ -48,6 +49,13 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--video", help="write an mp4 (headless) instead of opening a viewer")
     parser.add_argument("--snapshot", help="write a PNG of both cameras after a quarter cycle")
+    return parser
+
+
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
+    """The checked arguments; without a usable display and without ``--video`` or
+    ``--snapshot``, a message on how to record instead, and exit status 2."""
+    parser = make_parser()
     args = parser.parse_args(argv)
     if not 1 <= args.cycles <= 8:
         parser.error(f"--cycles must be an integer from 1 to 8, got {args.cycles}")
@@ -69,6 +77,12 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(2)
     if headless:
         os.environ.setdefault("MUJOCO_GL", "egl")  # before MuJoCo is first imported (make)
+    return args
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = parse_args(argv)
+    headless = bool(args.video or args.snapshot)
     env = gym.make(
         ACL_CLIMB_NOROLL_SEA_ID if args.no_roll else ENV_IDS[args.gait],
         cycles_per_episode=args.cycles,

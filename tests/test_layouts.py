@@ -12,7 +12,8 @@ import pytest
 
 import acl_env
 from acl_env.envs import ACLClimbEnv
-from acl_env.envs.config import ARGUMENTS, DEFAULTS, EnvConfig
+from acl_env.envs.arguments import ARGUMENTS, DEFAULTS
+from acl_env.envs.config import EnvConfig
 from acl_env.envs.observations import (
     env_action_layout,
     env_observation_layout,

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 from typing import Any, ClassVar
 
 import mujoco
@@ -20,9 +19,10 @@ from acl_env.constants import (
 )
 from acl_env.envs import modulation, termination
 from acl_env.envs import observations as layouts
-from acl_env.envs.config import ARGUMENTS, EnvConfig, check_camera, signature
+from acl_env.envs.arguments import ARGUMENTS, signature
+from acl_env.envs.config import EnvConfig, check_camera
 from acl_env.envs.contacts import ContactSampler
-from acl_env.envs.gait_config import GAITS
+from acl_env.envs.gait_config import GAITS, cached_gait
 from acl_env.envs.grip import GRIP_RANGE, GripController
 from acl_env.envs.lifecycle import LifecycleMixin
 from acl_env.envs.modulation import offset_tables, table_radius
@@ -41,14 +41,6 @@ from acl_env.gait import Gait
 from acl_env.model import assets_dir, build_model, sensor_indices
 
 
-@lru_cache(maxsize=16)
-def _cached_gait(name: str, items: tuple[tuple[str, Any], ...]) -> Gait:
-    """Gait objects are immutable; their keyframe tables are worth sharing across resets."""
-    gait = GAITS[name](**dict(items))
-    gait.cycle()
-    return gait
-
-
 class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     """A 20-joint SEA snake climbs a vertical pole; the policy adds residuals to a gait.
 
@@ -61,17 +53,15 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     keyframes, 22 s).
 
     ## Action Space
-    ``Box(-1, 1, (n_joints,), float32)``: joint ``j``'s target (rad) is ``clip(gait(phase)[j] +
-    residual_scale * action[j], -pi/2, pi/2)`` (gait term 0 for ``base_gait="none"``). Actions
-    are clipped to [-1, 1]; NaN, inf or a wrong shape raises ``ValueError``, a non-real dtype
-    ``TypeError``. ``gait_modulation={parameter: scale}`` appends ``len(gait_modulation) *
-    modulation_sections`` entries, parameter-major: entry ``(p, s)`` offsets gait parameter ``p``
-    (``squeeze``, ``amp_pitch``, ``amp_radial``) by up to ``scale`` m in body section ``s`` (head
-    first, hat functions between section centres), as the gait's Eq. 1-5 tables would. Then
-    ``phase_rate_range=(low, high)`` (PMTG) appends one entry ``a``: the gait advances ``1 + a
-    (high - 1)`` keyframes for ``a >= 0``, ``1 + a (1 - low)`` below, with targets interpolated
-    linearly between keyframes; before it, ``grip_action_scale`` > 0 puts one entry per section
-    that moves its grip target (``envs/grip.py``). ``action_names`` names every entry.
+    ``Box(-1, 1, (n,), float32)``, clipped to [-1, 1] (NaN, inf or a wrong shape: ``ValueError``;
+    a non-real dtype: ``TypeError``); its entries, in order, are declared in
+    :func:`acl_env.envs.observations.action_layout` (``action_names``). Joint ``j``'s target
+    (rad) is ``clip(gait(phase)[j] + residual_scale * action[j], -pi/2, pi/2)`` (gait term 0 for
+    ``base_gait="none"``). ``gait_modulation`` entries offset a gait parameter by up to its scale
+    (m) in one body section, through the gait's Eq. 1-5 tables; the grip entries move a
+    section's grip target (``envs/grip.py``); the cadence entry ``a`` (``phase_rate_range=(low,
+    high)``, PMTG) advances the gait ``1 + a (high - 1)`` keyframes for ``a >= 0``, ``1 + a (1 -
+    low)`` below, with targets interpolated between keyframes.
 
     ## Observation Space
     What the robot senses (float64): joint angles, velocities and torques, the head IMU, the
@@ -111,65 +101,18 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     ``step``/``render`` before ``reset`` and any call after ``close`` raise (``lifecycle.py``).
 
     ## Non-rolling task
-    ``acl_env/ACLClimbNoRollBase-v3`` (``acl_env.NOROLL_KWARGS``): climb without rolling, so that
-    sensors can sit on skin that never touches the pole. ACL with ``rolls_per_cycle=0``, tuned
-    gait ``acl_noroll``; reward ``{"climb": 1, "slip": 0.25, "roll": 0.05}`` (a turn costs more
-    than the ~0.2 m a rolling gait climbs with it; a non-rolling gait inches by sliding the
-    sections between its anchors); ``roll_limit`` 90 deg, the bound on the touched arc;
-    ``squeeze_slope`` 0.85: the squeeze tuned on the 0.075 m pole asks for more curvature than the
-    joints give on thinner poles. ``ACLClimbNoRollBase-v2`` (``NOROLL_V2_KWARGS``): gait
-    ``acl_noroll_v2``, no slope.
+    ``acl_env/ACLClimbNoRollBase-v3`` and the ids built on it climb without rolling (ACL with
+    ``rolls_per_cycle=0``, a roll term and ``roll_limit``): ``docs/environments.md`` says why.
 
     ## Arguments
-    | argument | default | accepted | meaning |
-    |---|---|---|---|
-    | base_gait | "acl" | "acl", "rolling_helix", "none" | base gait ("none": pure RL ablation) |
-    | gait_kwargs | None | dict of numbers in the gait's ranges | to the gait; radius: see squeeze |
-    | residual_scale | 0.2 (pi/2 for "none") | (0, pi] | rad of joint target per unit action |
-    | n_joints | 20 | int in [3, 100] | joints (modules + 1 links) |
-    | pole_radius | 0.075 | [0.01, 0.5] | m |
-    | friction | 1.0 | (0, 5] | sliding friction of the snake's skin and the pole |
-    | kp | 20.0 | (0, 200] | servo stiffness (the series spring), N m/rad |
-    | squeeze | None (0.008) | [-0.05, 0.05] | m the helix is commanded inside the pole contact |
-    | tuned_gait | None | an ``acl_env.tuned_gaits`` key | a tuned gait: its squeeze, gait_kwargs |
-    | squeeze_slope | 0.0 | [0, 1] | m of squeeze given up per m the pole is under 0.075 m |
-    | steps_per_cycle | 220 | int in [2, 2200] | keyframes per gait cycle (one per step, 0.1 s) |
-    | cycles_per_episode | 2 | int in [1, 8] | episode length in cycles (the paper's evaluation) |
-    | reward_weights | {"climb": 1, "slip": 1} | dict of [-1e6, 1e6] | weights of the reward terms |
-    | domain_randomization | None | None, bool or dict | True for defaults, or a dict (see below) |
-    | privileged_obs | False | bool | append the centre of mass position and velocity |
-    | start_phase_range | 0.05 | [0, 1] | fraction of a cycle the start keyframe is drawn from |
-    | reset_noise_scale | 0.02 | [0, pi/2] | rad of joint noise at reset |
-    | fall_distance | 0.2 | (0, 4] | m of centre-of-mass drop that counts as a fall |
-    | phase_rate_range | None | None or (low, high) | keyframes per step: policy sets the cadence |
-    | timestep | 1/300 | 0.1 s / (5 k), 0.5-5 ms | physics step, s (v0: 0.002) |
-    | roll_limit | None | None or (0, 3600] | deg a module's roll may sweep before the end |
-    | gait_modulation | None | None or {parameter: (0, 0.02]} | m of offset per unit action |
-    | modulation_sections | None (4) | int in [1, min(20, n_joints)] | body sections modulated |
-    | render_mode | None | None or a ``metadata`` mode | Gymnasium's render modes |
-    | width, height | 640, 480 | int in [1, 4096] | pixels of a rendered frame |
-    | camera_name | "track" | a camera of the model | "track" follows the snake; "side", "top" |
-    | actuator_model | "servo" | a key of ``actuators.ACTUATOR_MODELS`` | the joints' actuators |
-    | spring_stiffness | None (20.0) | [1, 200] | SEA spring, N m/rad (``kp`` is the servo's) |
-    | motor_speed_limit | None (2.2) | [0.1, 100] | SEA motor top speed, rad/s |
-    | control_latency | None (0.01) | [0, 0.2] | s from a command to the SEA motors |
-    | sensor_latency | None (0.005) | [0, 0.2] | s from the joints to the observed angles |
-    | grip_target | None | [-500, 500] | N: compliant grip per section (SEA; ``envs/grip.py``) |
-    | grip_gain, grip_leak | None (1e-4, 1) | [0, 0.01], [0.01, 100] | its m/(N s), leak (s) |
-    | grip_action_scale | None (0) | [0, 500] | N of grip target per unit action |
-
-    A value of the wrong kind raises ``TypeError``, one out of range ``ValueError``, both naming
-    the argument (``envs/config.py`` and ``envs/gait_config.py`` say why each bound); a negative
-    reward weight flips its term. Also: ``0 <= low <= 1 <= high <= steps_per_cycle / 2``;
-    ``squeeze`` below pole + module radius; ``gait_kwargs`` within the
-    gait's ranges (``gait/gaits.py``), not setting ``n_joints``, ``steps_per_cycle``,
-    ``module_length`` or ``module_diameter``; its ``n_samples`` in [100, 1000]. ``render_mode=
-    "human"`` needs a window (``DISPLAY``; not ``MUJOCO_GL=egl``). ``domain_randomization`` draws
-    ``pole_radius`` (the gait's radius follows), ``friction``, ``mass_scale`` (``1e-3 <= mass_scale
-    <= 10``) and ``kp`` (servo) or ``spring_stiffness``, ``motor_speed_limit``, ``control_latency``
-    (SEA) at every reset, uniformly from ``(low, high)`` ranges inside those arguments' own, and
-    adds Gaussian ``sensor_noise`` (``[0, 1]``: rad on angles, 10x in rad/s, stiffness x in N m);
-    ``True``: ``envs.randomize.default_randomization(actuator_model)``.
+    Keyword arguments only, declared once with their defaults, accepted values and meaning in
+    ``envs/arguments.py`` (``docs/environments.md`` shows the table; the actuator models'
+    options, ``kp``, ``spring_stiffness``, ..., come from :mod:`acl_env.actuators`).
+    ``env.config`` holds them checked, one typed config per concern (``envs/config.py``). A
+    value of the wrong kind raises ``TypeError``, one out of range ``ValueError``, both naming
+    the argument; ``envs/config.py`` and ``envs/gait_config.py`` say why each bound.
+    ``domain_randomization=True`` draws ``envs.randomize.default_randomization(actuator_model)``
+    at every reset.
 
     ## Version History
     * v1: physics step 1/300 s instead of 2 ms (``timestep=0.002`` is v0's). Later options, off
@@ -271,7 +214,7 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         base = base or self.config.gait.base_gait
         if GAITS[base] is None:
             return None
-        return _cached_gait(base, tuple(sorted(self._gait_kwargs(pole_radius).items())))
+        return cached_gait(base, tuple(sorted(self._gait_kwargs(pole_radius).items())))
 
     def _gait_table(self) -> np.ndarray:
         if self.gait is None:

@@ -2,8 +2,9 @@
 (one per concern: physics and pole, actuator, gait and cadence, grip, reward, randomisation,
 episode, rendering), and their checks and accepted ranges.
 
-The env's constructor takes the keyword arguments of :data:`ARGUMENTS` (its signature is built
-from them) and maps them to an :class:`EnvConfig` in one place, :meth:`EnvConfig.from_kwargs`.
+The env's constructor takes the keyword arguments declared in ``envs/arguments.py`` (its
+signature is built from them) and maps them to an :class:`EnvConfig` in one place,
+:meth:`EnvConfig.from_kwargs`.
 Every argument is checked for type and range when the env is built: a value of the wrong kind
 (``"false"`` for a bool, ``1`` for ``domain_randomization``, a string for a number) raises
 ``TypeError``, one out of range ``ValueError``, both naming the argument and what it accepts
@@ -20,7 +21,6 @@ own. ``width``, ``height <= 4096``: MuJoCo's offscreen buffer.
 
 from __future__ import annotations
 
-import inspect
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -28,18 +28,13 @@ from typing import Any
 
 import mujoco
 
-from acl_env.actuators import ACTUATOR_MODELS, DEFAULT_MODEL, ActuatorModel, all_options, owners
+from acl_env.actuators import ACTUATOR_MODELS, ActuatorModel, all_options, owners
 from acl_env.actuators.base import ActuatorConfig
 from acl_env.constants import (
     CONTROL_DT,
-    DEFAULT_FRICTION,
-    DEFAULT_N_JOINTS,
-    DEFAULT_POLE_RADIUS,
-    DEFAULT_STEPS_PER_CYCLE,
     JOINT_LIMIT,
-    PHYSICS_TIMESTEP,
-    TRACK_CAMERA,
 )
+from acl_env.envs.arguments import DEFAULTS
 from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.envs.gait_config import GaitConfig
 from acl_env.envs.grip import (
@@ -132,74 +127,6 @@ def _timestep(value: object) -> tuple[float, int]:
             f"(the contact samples), got {timestep} ({frame_skip} steps)"
         )
     return timestep, frame_skip
-
-
-@dataclass(frozen=True)
-class Argument:
-    """One keyword argument of the env: its name, default and type, and the concern (config)
-    it belongs to."""
-
-    name: str
-    default: Any
-    annotation: Any
-    concern: str
-
-
-def _actuator_arguments() -> tuple[Argument, ...]:
-    """The actuator models' options (:mod:`acl_env.actuators`), each an argument of every env."""
-    return tuple(
-        Argument(o.name, o.unset, float if o.unset is not None else float | None, "actuator")
-        for o in all_options().values()
-    )
-
-
-# The env's keyword arguments, declared once: the constructor's signature, the check of
-# configuration files (envs/kwargs.py) and the docs' table read them.
-ARGUMENTS: tuple[Argument, ...] = (
-    Argument("base_gait", "acl", str, "gait"),
-    Argument("gait_kwargs", None, Mapping[str, Any] | None, "gait"),
-    Argument("residual_scale", None, float | None, "gait"),
-    Argument("n_joints", DEFAULT_N_JOINTS, int, "physics"),
-    Argument("pole_radius", DEFAULT_POLE_RADIUS, float, "physics"),
-    Argument("friction", DEFAULT_FRICTION, float, "physics"),
-    Argument("squeeze", None, float | None, "gait"),
-    Argument("steps_per_cycle", DEFAULT_STEPS_PER_CYCLE, int, "gait"),
-    Argument("cycles_per_episode", 2, int, "episode"),
-    Argument("reward_weights", None, Mapping[str, float] | None, "reward"),
-    Argument("domain_randomization", None, bool | Mapping[str, Any] | None, "randomization"),
-    Argument("privileged_obs", False, bool, "episode"),
-    Argument("start_phase_range", 0.05, float, "episode"),
-    Argument("reset_noise_scale", 0.02, float, "episode"),
-    Argument("fall_distance", 0.2, float, "episode"),
-    Argument("phase_rate_range", None, tuple[float, float] | None, "gait"),
-    Argument("timestep", PHYSICS_TIMESTEP, float, "physics"),
-    Argument("roll_limit", None, float | None, "episode"),
-    Argument("gait_modulation", None, Mapping[str, float] | None, "gait"),
-    Argument("modulation_sections", None, int | None, "gait"),
-    Argument("squeeze_slope", 0.0, float, "gait"),
-    Argument("render_mode", None, str | None, "render"),
-    Argument("width", 640, int, "render"),
-    Argument("height", 480, int, "render"),
-    Argument("camera_name", TRACK_CAMERA, str, "render"),
-    Argument("tuned_gait", None, str | None, "gait"),
-    Argument("actuator_model", DEFAULT_MODEL, str, "actuator"),
-    *_actuator_arguments(),
-    Argument("grip_target", None, float | None, "grip"),
-    Argument("grip_gain", None, float | None, "grip"),
-    Argument("grip_leak", None, float | None, "grip"),
-    Argument("grip_action_scale", None, float | None, "grip"),
-)
-DEFAULTS: dict[str, Any] = {a.name: a.default for a in ARGUMENTS}
-
-
-def signature() -> inspect.Signature:
-    """The constructor's signature: ``self`` and :data:`ARGUMENTS`, keyword-only."""
-    keyword, Parameter = inspect.Parameter.KEYWORD_ONLY, inspect.Parameter
-    params = [Parameter("self", Parameter.POSITIONAL_OR_KEYWORD)]
-    params += [
-        Parameter(a.name, keyword, default=a.default, annotation=a.annotation) for a in ARGUMENTS
-    ]
-    return inspect.Signature(params, return_annotation=None)
 
 
 @dataclass(frozen=True)
@@ -342,7 +269,7 @@ class EnvConfig:
 
     @classmethod
     def from_kwargs(cls, kwargs: Mapping[str, Any], render_modes: Sequence[str]) -> EnvConfig:
-        """The configs of the env's keyword arguments ``kwargs`` (defaults: :data:`ARGUMENTS`);
+        """The configs of the env's keyword arguments ``kwargs`` (defaults: ``envs/arguments.py``);
         ``render_modes``: the env's ``metadata["render_modes"]``."""
         unknown = sorted(set(kwargs) - set(DEFAULTS))
         if unknown:
@@ -378,9 +305,7 @@ class EnvConfig:
 
 
 __all__ = [
-    "ARGUMENTS",
     "CYCLES_PER_EPISODE_RANGE",
-    "DEFAULTS",
     "FALL_DISTANCE_MAX",
     "FRICTION_MAX",
     "IMAGE_SIZE_RANGE",
@@ -388,7 +313,6 @@ __all__ = [
     "POLE_RADIUS_RANGE",
     "ROLL_LIMIT_MAX",
     "TIMESTEP_RANGE",
-    "Argument",
     "EnvConfig",
     "EpisodeConfig",
     "GripConfig",
@@ -396,5 +320,4 @@ __all__ = [
     "RenderConfig",
     "actuator_options",
     "check_camera",
-    "signature",
 ]

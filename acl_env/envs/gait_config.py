@@ -18,6 +18,7 @@ import inspect
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -49,6 +50,16 @@ GAITS: dict[str, type[Gait] | None] = {
     "rolling_helix": RollingHelixGait,
     "none": None,
 }
+
+
+@lru_cache(maxsize=16)
+def cached_gait(name: str, items: tuple[tuple[str, Any], ...]) -> Gait:
+    """Gait objects are immutable; their keyframe tables are worth sharing across resets."""
+    gait = GAITS[name](**dict(items))
+    gait.cycle()
+    return gait
+
+
 STEPS_PER_CYCLE_RANGE = (2, 2200)
 SQUEEZE_RANGE = (-0.05, 0.05)  # m
 RESIDUAL_SCALE_MAX = math.pi  # rad
@@ -226,6 +237,7 @@ __all__ = [
     "SQUEEZE_RANGE",
     "STEPS_PER_CYCLE_RANGE",
     "GaitConfig",
+    "cached_gait",
     "gait_kwargs_at",
     "squeeze_at",
 ]

@@ -1,7 +1,9 @@
 """MkDocs hook: render the env's observation and action tables from the layouts the env builds
-its spaces from (``acl_env.envs.observations``), so the docs never restate them.
+its spaces from (``acl_env.envs.observations``), and its arguments' table from their
+declarations (``acl_env.envs.arguments``), so the docs never restate them.
 
-A page writes ``<!-- layout: observation -->`` or ``<!-- layout: action -->`` on a line of its
+A page writes ``<!-- layout: observation -->``, ``<!-- layout: action -->`` or
+``<!-- layout: arguments -->`` on a line of its
 own (indented as the table must be); the table shows the default 20 joints and 4 body sections,
 every optional block with the option that adds it.
 """
@@ -14,6 +16,7 @@ from typing import Any
 from mkdocs.exceptions import PluginError
 
 from acl_env.constants import DEFAULT_N_JOINTS
+from acl_env.envs.arguments import markdown_table
 from acl_env.envs.modulation import DEFAULT_SECTIONS
 from acl_env.envs.observations import Block, action_layout, observation_layout
 
@@ -39,6 +42,7 @@ def layouts() -> dict[str, str]:
     n, sections = DEFAULT_N_JOINTS, DEFAULT_SECTIONS
     return {
         "observation": table(observation_layout(n, sections, privileged=True), "observation"),
+        "arguments": markdown_table(),
         "action": table(
             action_layout(n, ("squeeze",), sections, grip=True, cadence=True), "action"
         ),

@@ -129,18 +129,9 @@ def build_spec(
     return spec
 
 
-def build_model(
-    n_joints: int = DEFAULT_N_JOINTS,
-    pole_radius: float = DEFAULT_POLE_RADIUS,
-    friction: float = DEFAULT_FRICTION,
-    kp: float = DEFAULT_KP,
-    module_length: float = SEA_MODULE_LENGTH,
-    timestep: float = PHYSICS_TIMESTEP,
-    actuators: ActuatorConfig | None = None,
-) -> mujoco.MjModel:
-    """Compile the scene with an ``n_joints`` SEA snake (see :func:`build_spec`)."""
-    spec = build_spec(n_joints, pole_radius, friction, kp, module_length, timestep, actuators)
-    return spec.compile()
+def build_model(*args: Any, **kwargs: Any) -> mujoco.MjModel:
+    """Compile the scene with an ``n_joints`` SEA snake (the arguments of :func:`build_spec`)."""
+    return build_spec(*args, **kwargs).compile()
 
 
 def sensor_indices(model: mujoco.MjModel, *names: str) -> np.ndarray:

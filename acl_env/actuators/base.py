@@ -18,6 +18,7 @@ import numpy as np
 
 from acl_env.constants import CONTROL_DT
 
+Model, Data, Array = mujoco.MjModel, mujoco.MjData, np.ndarray  # the methods' short types
 # Accepted command and sensor latencies (s): up to two control steps.
 LATENCY_RANGE = (0.0, 2 * CONTROL_DT)
 
@@ -48,7 +49,7 @@ class ActuatorConfig:
 
     def configure(self, spec: mujoco.MjSpec, n_joints: int) -> None:
         """Edit ``spec``'s joints and actuators (:meth:`ActuatorModel.configure`)."""
-        self.model.configure(spec, self.values, n_joints, self.history_latency)
+        self.model.configure(spec, self, n_joints)
 
 
 class JointReadout:
@@ -108,14 +109,9 @@ class ActuatorModel:
         """The options a draw can set, in the order they are drawn."""
         return tuple(self.randomization_bounds)
 
-    def configure(
-        self,
-        spec: mujoco.MjSpec,
-        values: Mapping[str, float],
-        n_joints: int,
-        history_latency: float,
-    ) -> None:
-        """Edit the template's position servos (``spec``) into this model's actuators."""
+    def configure(self, spec: mujoco.MjSpec, setting: ActuatorConfig, n_joints: int) -> None:
+        """Edit the template's position servos (``spec``) into this model's actuators, with the
+        option values of ``setting``."""
 
     def readout(self, model: mujoco.MjModel, data: mujoco.MjData, n_joints: int) -> JointReadout:
         """What the joints report (:class:`JointReadout`)."""
@@ -124,15 +120,8 @@ class ActuatorModel:
     def apply(self, model: mujoco.MjModel, values: Mapping[str, float]) -> None:
         """Write a draw of :meth:`randomized` into a compiled ``model``."""
 
-    def start(
-        self,
-        model: mujoco.MjModel,
-        data: mujoco.MjData,
-        start: np.ndarray,
-        target: np.ndarray,
-        shortest: float,
-    ) -> float:
-        """Put the actuators at rest at the placed pose ``start`` (rad) before the start ramp;
+    def start(self, model: Model, data: Data, pose: Array, target: Array, shortest: float) -> float:
+        """Put the actuators at rest at the placed pose ``pose`` (rad) before the start ramp;
         returns how long (s) the ramp to ``target`` must last, at least ``shortest``."""
         return shortest
 

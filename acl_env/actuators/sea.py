@@ -29,7 +29,16 @@ from typing import Any, ClassVar
 import mujoco
 import numpy as np
 
-from acl_env.actuators.base import LATENCY_RANGE, ActuatorModel, JointReadout, Option
+from acl_env.actuators.base import (
+    LATENCY_RANGE,
+    ActuatorConfig,
+    ActuatorModel,
+    Array,
+    Data,
+    JointReadout,
+    Model,
+    Option,
+)
 from acl_env.actuators.base import history_samples as history_samples
 from acl_env.constants import PEAK_TORQUE, actuator_name, joint_name, sensor_name
 
@@ -96,11 +105,10 @@ def add_joint_sensors(spec: mujoco.MjSpec, n_joints: int, torque: Any, latency: 
                 sensor.delay = latency
 
 
-def configure_motors(
-    spec: mujoco.MjSpec, values: Mapping[str, float], n_joints: int, history_latency: float, **pid
-) -> None:
+def configure_motors(spec: mujoco.MjSpec, setting: ActuatorConfig, n_joints: int, **pid) -> None:
     """Each joint's actuator as a slew-limited PID motor at +-7 N m with the command delay
-    (``pid``: the PID's gains), and room in its history for ``history_latency``."""
+    (``pid``: the PID's gains), and room in its history for ``setting.history_latency``."""
+    values = setting.values
     timestep = spec.option.timestep
     for j in range(n_joints):
         actuator = spec.actuator(actuator_name(j))
@@ -110,7 +118,7 @@ def configure_motors(
             ctrlspec=int(mujoco.mjtCtrlInput.mjINPUT_POS),
         )
         actuator.forcerange = [-PEAK_TORQUE, PEAK_TORQUE]
-        latency = max(values["control_latency"], history_latency)
+        latency = max(values["control_latency"], setting.history_latency)
         if latency > 0.0:
             actuator.nsample = history_samples(latency, timestep)
             actuator.delay = values["control_latency"]
@@ -146,24 +154,18 @@ def set_control_latency(model: mujoco.MjModel, latency: float) -> None:
     model.actuator_delay[:] = latency
 
 
-def start_motors(
-    model: mujoco.MjModel,
-    data: mujoco.MjData,
-    start: np.ndarray,
-    target: np.ndarray,
-    shortest: float,
-) -> float:
-    """Motors at rest at ``start`` (the placed pose), with a command history that has always asked
+def start_motors(model: Model, data: Data, pose: Array, target: Array, shortest: float) -> float:
+    """Motors at rest at ``pose`` (the placed pose), with a command history that has always asked
     for it: the start ramp then begins from relaxed springs, not from zero. Returns how long the
     ramp to ``target`` must last for the motors to follow (:func:`ramp_time`)."""
-    data.act[:] = start
-    data.ctrl[:] = start
-    for j, angle in enumerate(start):
+    data.act[:] = pose
+    data.ctrl[:] = pose
+    for j, angle in enumerate(pose):
         samples = int(model.actuator_history[j, 0])
         if samples > 0:
             values = np.full((samples, 1), float(angle))
             mujoco.mj_initCtrlHistory(model, data, j, None, values)
-    return ramp_time(model, start, target, shortest)
+    return ramp_time(model, pose, target, shortest)
 
 
 def ramp_time(
@@ -243,17 +245,12 @@ class SEA(ActuatorModel):
     randomization: ClassVar[dict[str, Any]] = SEA_RANDOMIZATION
     randomization_bounds: ClassVar[dict[str, tuple[float, float]]] = SEA_RANDOMIZATION_BOUNDS
 
-    def configure(
-        self,
-        spec: mujoco.MjSpec,
-        values: Mapping[str, float],
-        n_joints: int,
-        history_latency: float,
-    ) -> None:
+    def configure(self, spec: mujoco.MjSpec, setting: ActuatorConfig, n_joints: int) -> None:
         """Turn the template's position servos into series elastic actuators, with their delays
         and joint sensors (the torque sensor: the PID's force, the spring torque)."""
+        values = setting.values
         pid = {"kp": values["spring_stiffness"], "kv": 0.0}
-        configure_motors(spec, values, n_joints, history_latency, **pid)
+        configure_motors(spec, setting, n_joints, **pid)
         for j in range(n_joints):
             spec.joint(joint_name(j)).damping[0] = SPRING_DAMPING
         force = (mujoco.mjtSensor.mjSENS_ACTUATORFRC, mujoco.mjtObj.mjOBJ_ACTUATOR)
@@ -271,15 +268,8 @@ class SEA(ActuatorModel):
         set_motor_speed_limit(model, values["motor_speed_limit"])
         set_control_latency(model, values["control_latency"])
 
-    def start(
-        self,
-        model: mujoco.MjModel,
-        data: mujoco.MjData,
-        start: np.ndarray,
-        target: np.ndarray,
-        shortest: float,
-    ) -> float:
-        return start_motors(model, data, start, target, shortest)
+    def start(self, model: Model, data: Data, pose: Array, target: Array, shortest: float) -> float:
+        return start_motors(model, data, pose, target, shortest)
 
 
 __all__ = [

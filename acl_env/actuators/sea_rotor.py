@@ -26,7 +26,7 @@ from typing import ClassVar
 import mujoco
 import numpy as np
 
-from acl_env.actuators.base import JointReadout
+from acl_env.actuators.base import ActuatorConfig, Array, Data, JointReadout, Model
 from acl_env.actuators.sea import (
     SEA,
     SPRING_DAMPING,
@@ -74,13 +74,8 @@ class RotorSEA(SEA):
         "series elastic, the motor a rotor (reflected inertia) behind the spring"
     )
 
-    def configure(
-        self,
-        spec: mujoco.MjSpec,
-        values: Mapping[str, float],
-        n_joints: int,
-        history_latency: float,
-    ) -> None:
+    def configure(self, spec: mujoco.MjSpec, setting: ActuatorConfig, n_joints: int) -> None:
+        values = setting.values
         for j in range(n_joints):
             joint = spec.joint(joint_name(j))
             joint.damping[0] = 0.0
@@ -99,7 +94,7 @@ class RotorSEA(SEA):
             spring.wrap_joint(joint_name(j), 1.0)
             spring.wrap_joint(motor_name(j), -1.0)
             spec.actuator(actuator_name(j)).target = motor_name(j)
-        configure_motors(spec, values, n_joints, history_latency, kp=MOTOR_KP, dampratio=1.0)
+        configure_motors(spec, setting, n_joints, kp=MOTOR_KP, dampratio=1.0)
         deflection = (mujoco.mjtSensor.mjSENS_TENDONPOS, mujoco.mjtObj.mjOBJ_TENDON)
         add_joint_sensors(
             spec, n_joints, lambda j: (*deflection, spring_name(j)), values["sensor_latency"]
@@ -113,16 +108,9 @@ class RotorSEA(SEA):
         set_motor_speed_limit(model, values["motor_speed_limit"])
         set_control_latency(model, values["control_latency"])
 
-    def start(
-        self,
-        model: mujoco.MjModel,
-        data: mujoco.MjData,
-        start: np.ndarray,
-        target: np.ndarray,
-        shortest: float,
-    ) -> float:
-        data.qpos[motor_qpos(model, len(start))] = start  # relaxed springs
-        return start_motors(model, data, start, target, shortest)
+    def start(self, model: Model, data: Data, pose: Array, target: Array, shortest: float) -> float:
+        data.qpos[motor_qpos(model, len(pose))] = pose  # relaxed springs
+        return start_motors(model, data, pose, target, shortest)
 
 
 class RotorReadout(SensedReadout):

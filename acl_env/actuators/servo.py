@@ -13,7 +13,7 @@ from typing import Any, ClassVar
 
 import mujoco
 
-from acl_env.actuators.base import ActuatorModel, Option
+from acl_env.actuators.base import ActuatorConfig, ActuatorModel, Option
 from acl_env.constants import DEFAULT_KP, actuator_name
 
 KP_MAX = 200.0  # N m/rad
@@ -49,21 +49,16 @@ class Servo(ActuatorModel):
     randomization_bounds: ClassVar[dict[str, tuple[float, float]]] = {"kp": (0.0, KP_MAX)}
     drawn_before_mass: ClassVar[tuple[str, ...]] = ("kp",)
 
-    def configure(
-        self,
-        spec: mujoco.MjSpec,
-        values: Mapping[str, float],
-        n_joints: int,
-        history_latency: float,
-    ) -> None:
+    def configure(self, spec: mujoco.MjSpec, setting: ActuatorConfig, n_joints: int) -> None:
         """The template's position servos, at stiffness ``kp`` (when given: else the
         template's)."""
-        if "kp" not in values:
+        kp = setting.values.get("kp")
+        if kp is None:
             return
         for j in range(n_joints):
             actuator = spec.actuator(actuator_name(j))
-            actuator.gainprm[0] = values["kp"]
-            actuator.biasprm[1] = -values["kp"]
+            actuator.gainprm[0] = kp
+            actuator.biasprm[1] = -kp
 
     def apply(self, model: mujoco.MjModel, values: Mapping[str, float]) -> None:
         set_servo_stiffness(model, values["kp"])

@@ -198,6 +198,7 @@ for _env_id, _kwargs in _ENVS.items():
         register(
             id=_env_id,
             entry_point="acl_env.envs.acl_climb:ACLClimbEnv",
+            vector_entry_point="acl_env.envs.vector:ACLClimbVectorEnv",
             kwargs=_kwargs,
             max_episode_steps=None,
         )

@@ -27,14 +27,9 @@ from acl_env import cli, shipped
 from acl_env.envs.grip import GRIP_RANGE
 from acl_env.envs.observations import env_observation_names
 from acl_env.evaluation import baselines, tasks
-from acl_env.evaluation.protocol import (
-    Episode,
-    format_paired,
-    format_table,
-    paired_differences,
-    run_episode,
-    summarize,
-)
+from acl_env.evaluation.protocol import Episode, run_episode
+from acl_env.evaluation.summary import paired_differences, summarize
+from acl_env.evaluation.tables import format_paired, format_table
 from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_outputs
 
 BINS = 8  # eighths of the gait cycle

@@ -21,7 +21,8 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, ROLLING_HELIX_CLIMB_ID, cli, tuned_gaits
 from acl_env.evaluation import run_episode, zero_policy
-from acl_env.evaluation.protocol import PAIRED_METRICS, mean_ci95, summarize
+from acl_env.evaluation.intervals import mean_ci95
+from acl_env.evaluation.summary import PAIRED_METRICS, summarize
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {

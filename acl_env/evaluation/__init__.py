@@ -1,9 +1,13 @@
 """Evaluation: the protocol (roll out, measure, summarise), the baselines each task is judged
 against, the records, running and the ``acl-evaluate`` command line.
 
-- :mod:`acl_env.evaluation.protocol`: :func:`run_episode`, the metrics (:data:`METRICS`), 95 %
-  intervals and tables; numpy and Gymnasium only. Its names are re-exported here, so that
-  ``from acl_env.evaluation import run_episode`` works as it always has;
+- :mod:`acl_env.evaluation.protocol`: :func:`run_episode` and the metrics (:data:`METRICS`);
+  :mod:`~acl_env.evaluation.contacts` (where the snake touches the pole),
+  :mod:`~acl_env.evaluation.intervals` (95 % intervals), :mod:`~acl_env.evaluation.summary`
+  (over episodes, paired differences), :mod:`~acl_env.evaluation.tables` (text tables) and
+  :mod:`~acl_env.evaluation.open_loop` (the open-loop controllers); numpy and Gymnasium only.
+  Their names are re-exported here, so that ``from acl_env.evaluation import run_episode`` works
+  as it always has;
 - :mod:`acl_env.evaluation.baselines`: the controllers and, per task, what it is judged against;
 - :mod:`acl_env.evaluation.records`: the one reader and writer of ``acl-evaluate --json`` records;
 - :mod:`acl_env.evaluation.runner`: running controllers in worker processes;
@@ -16,31 +20,17 @@ Nothing here but the exporter imports PyTorch, Stable-Baselines3 or PyYAML at im
 policy folder is loaded (:mod:`acl_env.training.policy`) only when a controller plays one.
 """
 
+from acl_env.evaluation.contacts import ARC_BINS, PoleContacts, arc_bins, covering_arc_deg
+from acl_env.evaluation.intervals import CI_NOTE, mean_ci95, student_t_quantile
+from acl_env.evaluation.open_loop import cadence_action, constant_cadence_policy, zero_policy
 from acl_env.evaluation.protocol import (
-    ARC_BINS,
-    CI_NOTE,
     METRICS,
-    PAIRED_METRICS,
-    TABLE_ROWS,
     Episode,
-    PoleContacts,
     Policy,
     StepCallback,
     action_recorder,
-    arc_bins,
-    cadence_action,
-    constant_cadence_policy,
-    covering_arc_deg,
-    format_paired,
-    format_table,
-    jsonable,
-    mean_ci95,
-    paired_differences,
     run_episode,
     steps_per_cycle,
-    student_t_quantile,
-    summarize,
-    zero_policy,
 )
 from acl_env.evaluation.records import (
     controller_env,
@@ -53,6 +43,9 @@ from acl_env.evaluation.records import (
     read_record,
     write_record,
 )
+from acl_env.evaluation.summary import PAIRED_METRICS, paired_differences, summarize
+from acl_env.evaluation.tables import TABLE_ROWS, format_paired, format_table
+from acl_env.io import jsonable
 
 __all__ = [
     "ARC_BINS",

@@ -55,7 +55,8 @@ from acl_env import (
     tuned_gaits,
 )
 from acl_env.envs.kwargs import make_quietly
-from acl_env.evaluation.protocol import Policy, constant_cadence_policy, zero_policy
+from acl_env.evaluation.open_loop import constant_cadence_policy, zero_policy
+from acl_env.evaluation.protocol import Policy
 from acl_env.evaluation.tasks import (
     TRAINING_ONLY_KWARGS,
     default_tuned_key,

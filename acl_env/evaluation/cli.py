@@ -33,10 +33,11 @@ from acl_env.evaluation.baselines import (
     read_policy,
 )
 from acl_env.evaluation.figures import plot_heights, record_video
-from acl_env.evaluation.protocol import format_paired, format_table, summarize
 from acl_env.evaluation.records import REFERENCE, make_record, write_record
 from acl_env.evaluation.runner import PolicySetError, evaluate, policies_controllers
 from acl_env.evaluation.statistics import MIN_SEEDS, over_seeds
+from acl_env.evaluation.summary import summarize
+from acl_env.evaluation.tables import format_paired, format_table
 from acl_env.evaluation.tasks import shown_path
 from acl_env.io import atomic_output, console_script
 from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError

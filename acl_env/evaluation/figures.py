@@ -17,7 +17,8 @@ from acl_env.evaluation.baselines import (
     Controller,
     is_policy,
 )
-from acl_env.evaluation.protocol import Episode, mean_ci95, run_episode
+from acl_env.evaluation.intervals import mean_ci95
+from acl_env.evaluation.protocol import Episode, run_episode
 
 
 def _rise(episodes: Sequence[Episode]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

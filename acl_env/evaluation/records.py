@@ -21,7 +21,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from acl_env.evaluation.protocol import CI_NOTE, paired_differences
+from acl_env.evaluation.intervals import CI_NOTE
+from acl_env.evaluation.summary import paired_differences
 from acl_env.io import read_json, write_json
 
 REFERENCE = "policy"  # the controller the others are paired against

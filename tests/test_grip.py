@@ -204,7 +204,9 @@ def test_evaluation_meets_compliant_acl_and_open_loops_without_the_grip(tmp_path
 
 
 def test_tuner_grip_mode_searches_the_grip_on_the_ids_gait(tmp_path) -> None:
-    from acl_env.tuning.cli import main, make_parser, settings_from_args
+    from acl_env.tuning.arguments import make_parser
+    from acl_env.tuning.cli import main
+    from acl_env.tuning.settings import settings_from_args
     from acl_env.tuning.space import GRIP_DEFAULT_PARAMS, GRIP_SPACE, UsageError
 
     argv = ["--grip", "--env", ACL_CLIMB_SEA_ID, "--steps-per-cycle", "40", "--cycles", "1"]

@@ -5,21 +5,20 @@ Each trial plays a candidate gait (squeeze and ``gait_kwargs``) open loop on a f
 (:mod:`~acl_env.tuning.objective`), within a search space (:mod:`~acl_env.tuning.space`), in a
 shared, resumable study (:mod:`~acl_env.tuning.study`); the best few trials are measured again on
 new seeds (:mod:`~acl_env.tuning.remeasure`) and the frontier of climb and slip against energy is
-drawn (:mod:`~acl_env.tuning.frontier`). The command line (:mod:`~acl_env.tuning.cli`) writes the
-tuned gait as an entry of a tuned-gaits file, whose format is documented in
-:mod:`acl_env.tuned_gaits`.
+drawn (:mod:`~acl_env.tuning.frontier`). The command line (:mod:`~acl_env.tuning.cli`; its parser
+in :mod:`~acl_env.tuning.arguments`, its options checked into settings by
+:mod:`~acl_env.tuning.settings`) writes the tuned gait as an entry of a tuned-gaits file, whose
+format is documented in :mod:`acl_env.tuned_gaits`.
 """
 
-from acl_env.tuning.cli import (
+from acl_env.tuning.arguments import (
     DEFAULT_CONFIG,
     DEFAULT_OUTPUT,
     DEFAULT_PLOT,
     DEFAULT_STORAGE,
-    main,
     make_parser,
-    run,
-    settings_from_args,
 )
+from acl_env.tuning.cli import main, run
 from acl_env.tuning.frontier import (
     FRONTIER_PANELS,
     POINT_METRICS,
@@ -38,6 +37,7 @@ from acl_env.tuning.objective import (
     suggest_params,
 )
 from acl_env.tuning.remeasure import tuned_entry, validate, validation_seeds
+from acl_env.tuning.settings import settings_from_args
 from acl_env.tuning.space import (
     CONDITIONS,
     DEFAULT_PARAMS,

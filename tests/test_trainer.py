@@ -31,6 +31,9 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 from acl_env import ACL_CLIMB_ID
 from acl_env.training import trainer
+from acl_env.training.arguments import make_parser
+from acl_env.training.model_setup import make_training_env
+from acl_env.training.plan import plan_segment, segment_seed
 from acl_env.training.runs import write_json
 
 ROLLOUT = 128  # env steps per update: n_steps 64 x 2 envs
@@ -63,8 +66,8 @@ def sigint_handled() -> Iterator[None]:
 
 def run(argv: list[str], *callbacks: BaseCallback) -> Path:
     """Plan and run one segment with extra callbacks (the signal senders below)."""
-    args = trainer.make_parser().parse_args(argv)
-    return trainer.run_segment(trainer.plan_segment(args, argv), callbacks, verbose=0)
+    args = make_parser().parse_args(argv)
+    return trainer.run_segment(plan_segment(args, argv), callbacks, verbose=0)
 
 
 def policy_params(model: PPO) -> dict[str, torch.Tensor]:
@@ -199,7 +202,7 @@ def test_resume_continues_the_run_with_its_own_settings(
     assert not second["interrupted"] and summary["interruptions"] == 1
     assert summary["steps"] == 512 and summary["total_steps"] == 512
     assert summary["wall_time_s"] == pytest.approx(first["wall_time_s"] + second["wall_time_s"])
-    assert first["seed"] == 3 and second["seed"] == trainer.segment_seed(3, 1) != 3
+    assert first["seed"] == 3 and second["seed"] == segment_seed(3, 1) != 3
     record = json.loads((run_dir / "args.json").read_text())
     assert record["resumes"][0]["settings"]["seed"] == 3
     assert record["resumes"][0]["settings"]["checkpoint_freq"] == 256
@@ -235,17 +238,17 @@ def test_resume_is_reproducible(
 
 
 def test_segment_seeds_are_distinct_and_reproducible() -> None:
-    seeds = [trainer.segment_seed(7, k) for k in range(50)]
+    seeds = [segment_seed(7, k) for k in range(50)]
     assert seeds[0] == 7 and len(set(seeds)) == 50
-    assert seeds == [trainer.segment_seed(7, k) for k in range(50)]
+    assert seeds == [segment_seed(7, k) for k in range(50)]
     assert all(0 <= s < 2**31 for s in seeds)
 
 
 def test_named_callback_from_the_config(tmp_path: Path) -> None:
     """``callback:`` in the config names classes by dotted path, as in the zoo."""
     argv = tiny_argv(tmp_path, 128)
-    args = trainer.make_parser().parse_args(argv)
-    plan = trainer.plan_segment(args, argv)
+    args = make_parser().parse_args(argv)
+    plan = plan_segment(args, argv)
     assert "callback" in plan.hyperparams  # ppo.yml names InfoTermsCallback
     from acl_env.training.callbacks import InfoTermsCallback, callbacks_from_config
 
@@ -427,7 +430,7 @@ def test_missing_resume_folder_is_refused(
 def test_lowercase_booleans_are_booleans(tmp_path: Path) -> None:
     """``domain_randomization:false`` is the bool False, not a string of letters."""
     argv = tiny_argv(tmp_path, 128, "--env-kwargs", "domain_randomization:false")
-    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    plan = plan_segment(make_parser().parse_args(argv), argv)
     assert plan.hyperparams["env_kwargs"]["domain_randomization"] is False
     assert not (tmp_path / "runs").exists()
 
@@ -439,12 +442,12 @@ def test_env_kwargs_override_the_recipes_tuned_gait(tmp_path: Path) -> None:
 
     shape = tuned_gaits.gait_shape("acl")
     argv = tiny_argv(tmp_path / "runs", 128, "--env-kwargs", "squeeze:0.001")
-    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    plan = plan_segment(make_parser().parse_args(argv), argv)
     env_kwargs = plan.hyperparams["env_kwargs"]
     assert "tuned_gait" not in env_kwargs
     assert env_kwargs["squeeze"] == 0.001 and env_kwargs["gait_kwargs"] == shape["gait_kwargs"]
     argv = tiny_argv(tmp_path / "runs", 128)
-    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    plan = plan_segment(make_parser().parse_args(argv), argv)
     assert plan.hyperparams["env_kwargs"]["tuned_gait"] == "acl"  # kept by key otherwise
     assert not (tmp_path / "runs").exists()
 
@@ -462,7 +465,7 @@ def test_a_recipe_delta_plans_as_its_resolved_entry(
         yaml.safe_dump({ACL_CLIMB_ID: {"base": ACL_CLIMB_ID, "env_kwargs": {"friction": 0.9}}})
     )
     argv = tiny_argv(tmp_path / "runs", 128, "--config", str(delta))
-    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    plan = plan_segment(make_parser().parse_args(argv), argv)
     base = config.load_hyperparams(shipped.recipe_path(), ACL_CLIMB_ID)
     assert "base" not in plan.hyperparams
     assert plan.hyperparams["env_kwargs"] == {
@@ -534,8 +537,8 @@ def test_several_envs_per_worker_step_like_one_process() -> None:
     """5 envs in 2 worker processes give the same observations, rewards, dones and terminal
     observations as the same 5 envs stepped in this process, through auto-resets."""
     hyperparams = {"n_envs": 5, "env_kwargs": {"steps_per_cycle": 20, "cycles_per_episode": 1}}
-    workers = trainer.make_training_env(ACL_CLIMB_ID, hyperparams, 11, "subproc", 2)
-    local = trainer.make_training_env(ACL_CLIMB_ID, hyperparams, 11, "dummy")
+    workers = make_training_env(ACL_CLIMB_ID, hyperparams, 11, "subproc", 2)
+    local = make_training_env(ACL_CLIMB_ID, hyperparams, 11, "dummy")
     try:
         assert [len(s) for s in workers.slices] == [2, 3]
         np.testing.assert_array_equal(workers.reset(), local.reset())
@@ -746,7 +749,7 @@ def test_a_recipe_with_one_entry_trains_that_env_without_env(tmp_path: Path) -> 
     argv = tiny_argv(tmp_path / "runs", 128, "--config", str(delta))
     argv = argv[2:]  # drop "--env ACL_CLIMB_ID"
     assert "--env" not in argv
-    plan = trainer.plan_segment(trainer.make_parser().parse_args(argv), argv)
+    plan = plan_segment(make_parser().parse_args(argv), argv)
     assert plan.env_id == ACL_CLIMB_NOROLL_V2_ID
 
 

@@ -28,6 +28,8 @@ from acl_env.evaluation import cli as evaluate_cli
 from acl_env.evaluation import export
 from acl_env.io import atomic_output, atomic_write, check_output
 from acl_env.training import config, runs, trainer
+from acl_env.training.arguments import make_parser
+from acl_env.training.plan import plan_segment
 from acl_env.training.policy import load_policy, read_sb3_folder
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -164,8 +166,8 @@ def trained_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A tiny run (256 steps, a checkpoint at 128): what the trainer writes."""
     root = tmp_path_factory.mktemp("runs")
     argv = [*tiny_new_run(root), "--checkpoint-freq", "128", "--n-timesteps", "256"]
-    args = trainer.make_parser().parse_args(argv)
-    return trainer.run_segment(trainer.plan_segment(args, argv), verbose=0)
+    args = make_parser().parse_args(argv)
+    return trainer.run_segment(plan_segment(args, argv), verbose=0)
 
 
 def test_training_writes_its_statistics_pickle_free_too(trained_run: Path) -> None:

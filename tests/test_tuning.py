@@ -447,12 +447,20 @@ def test_also_plot_names_an_existing_study(
 def tune_recording(
     tmp_path: Path, attrs: tuple[str, ...], n_trials: str, *extra: str
 ) -> tuple[dict[str, Any] | None, list[tuple[float, ...]]]:
-    """Run a tiny study; return its entry and, per rollout, the env's ``attrs`` it played."""
+    """Run a tiny study; return its entry and, per rollout, the env's options ``attrs`` it
+    played."""
     seen: list[tuple[float, ...]] = []
     real_rollout = objective.rollout
 
+    def setting(env: gymnasium.Env, name: str) -> float:
+        """An option as the env checked it (its physics config or its actuator's values)."""
+        config = env.unwrapped.config
+        if hasattr(config.physics, name):
+            return getattr(config.physics, name)
+        return config.actuator.values[name]
+
     def spy(env: gymnasium.Env, seeds: Any) -> list[dict[str, float]]:
-        seen.append(tuple(getattr(env.unwrapped, a) for a in attrs))
+        seen.append(tuple(setting(env, a) for a in attrs))
         return real_rollout(env, seeds)
 
     with pytest.MonkeyPatch.context() as patch:

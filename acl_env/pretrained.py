@@ -89,6 +89,9 @@ class PretrainedPolicy:
         self.action_shape = tuple(metadata["action_shape"])
         self.action_low = np.asarray(metadata["action_low"], dtype=np.float32)
         self.action_high = np.asarray(metadata["action_high"], dtype=np.float32)
+        # The entries' names (acl_env.envs.observations); empty in exports that predate them.
+        self.observation_names = tuple(metadata.get("observation_names") or ())
+        self.action_names = tuple(metadata.get("action_names") or ())
         hidden = len(metadata["net_arch"])
         f32 = {k: v.astype(np.float32) for k, v in arrays.items() if k not in NORMALIZATION_KEYS}
         self.layers = [(f32[f"hidden_{i}_weight"], f32[f"hidden_{i}_bias"]) for i in range(hidden)]
@@ -189,6 +192,22 @@ class PretrainedPolicy:
                     f"{self.path / METADATA_FILE}: {self.name} was trained with {name} of shape "
                     f"{trained}, but this env has {here} (env kwargs that change the robot or the "
                     "action do not apply)"
+                )
+        self._check_names(env)
+
+    def _check_names(self, env: Any) -> None:
+        """Spaces of the trained shapes must also hold the trained entries, in order (the env's
+        layouts, ``acl_env.envs.observations``, against the names exported with the policy)."""
+        if getattr(env.unwrapped, "config", None) is None or not self.observation_names:
+            return
+        from acl_env.envs.observations import env_observation_names
+
+        here = env_observation_names(env.unwrapped)
+        for i, (mine, theirs) in enumerate(zip(self.observation_names, here, strict=True)):
+            if mine != theirs:
+                raise SpaceMismatchError(
+                    f"{self.path / METADATA_FILE}: {self.name} observes {mine!r} at entry {i}, "
+                    f"this env {theirs!r}"
                 )
 
 

@@ -104,3 +104,22 @@ def test_an_unknown_keyword_argument_is_a_type_error_naming_it() -> None:
         ACLClimbEnv(pole_radus=0.08)
     with pytest.raises(TypeError, match="unexpected keyword argument"):
         gym.make(acl_env.ACL_CLIMB_SEA_ID, spring_stifness=20.0)
+
+
+@pytest.mark.parametrize("name", ["acl_climb_sea_ppo", "acl_climb_compliant_ppo"])
+def test_a_policy_carries_its_entries_names_and_meets_the_same_layout(name: str) -> None:
+    """The export writes the layouts' names into ``policy.json``; loading checks them against
+    the env, so a policy meets an env whose entries are the ones it was trained on."""
+    from acl_env import pretrained
+
+    policy = pretrained.load_policy(name)
+    env = gym.make(policy.env_id, **policy.env_kwargs)
+    assert policy.observation_names == names(env_observation_layout(env.unwrapped))
+    assert policy.action_names == env.unwrapped.action_names
+    policy.check_spaces(env)
+    swapped = list(policy.observation_names)
+    swapped[0], swapped[1] = swapped[1], swapped[0]
+    policy.observation_names = tuple(swapped)
+    with pytest.raises(pretrained.SpaceMismatchError, match="observes 'angle_1' at entry 0"):
+        policy.check_spaces(env)
+    env.close()

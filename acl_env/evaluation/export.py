@@ -143,6 +143,16 @@ def export_policy(
     space = model.action_space
     # The registered id whose defaults are the task it was trained on, where there is one.
     env_id, env_kwargs = on_benchmark_id(folder.env_id, folder.env_kwargs)
+    observation_names, action_names = entry_names(env_id, env_kwargs)
+    for what, names, shape in (
+        ("observation", observation_names, model.observation_space.shape),
+        ("action", action_names, space.shape),
+    ):
+        if names and len(names) != int(np.prod(shape)):
+            raise ValueError(
+                f"{folder.path}: its {what} has {int(np.prod(shape))} entries, but {env_id} with "
+                f"its kwargs names {len(names)}"
+            )
     metadata = {
         "format": FORMAT,
         "name": name,
@@ -154,6 +164,9 @@ def export_policy(
         "action_shape": list(space.shape),
         "action_low": [float(v) for v in np.ravel(space.low)],
         "action_high": [float(v) for v in np.ravel(space.high)],
+        # What each entry is (acl_env.envs.observations), where the task's env names them.
+        "observation_names": observation_names,
+        "action_names": action_names,
         "normalize_observations": folder.vecnormalize is not None,
         "training": training_summary(folder, int(model.num_timesteps), commit),
         "evaluation": None if record is None else evaluation_summary(Path(record)),
@@ -170,6 +183,21 @@ def export_policy(
     atomic_write(out / WEIGHTS_FILE, buffer.getvalue())
     write_json(out / METADATA_FILE, metadata)  # last: it marks the folder as pretrained
     return out
+
+
+def entry_names(env_id: str, env_kwargs: dict[str, Any]) -> tuple[list[str], list[str]]:
+    """The names of the observation's and the action's entries of the env the policy was
+    trained on (its layouts, ``acl_env.envs.observations``); empty for an env without them."""
+    from acl_env.envs.kwargs import make_quietly
+    from acl_env.envs.observations import env_action_layout, env_observation_names, names
+
+    env = make_quietly(env_id, **env_kwargs).unwrapped
+    try:
+        if not hasattr(env, "config"):
+            return [], []
+        return list(env_observation_names(env)), list(names(env_action_layout(env)))
+    finally:
+        env.close()
 
 
 def main(argv: Sequence[str] | None = None) -> Path:

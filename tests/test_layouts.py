@@ -123,3 +123,28 @@ def test_a_policy_carries_its_entries_names_and_meets_the_same_layout(name: str)
     with pytest.raises(pretrained.SpaceMismatchError, match="observes 'angle_1' at entry 0"):
         policy.check_spaces(env)
     env.close()
+
+
+def test_friction_step_makes_the_pole_slippery_at_a_drawn_step() -> None:
+    """``friction_step``: the skin's and the pole's friction drop at one step drawn at reset,
+    ``info["slippery"]`` from then on; the next reset restores the episode's friction."""
+    env = ACLClimbEnv(friction_step=0.5, **{"steps_per_cycle": 20, "cycles_per_episode": 2})
+    pole = env.model.geom("pole").id
+    env.reset(seed=4)
+    at = env._friction_step.at
+    assert 1 <= at < 40
+    flags = []
+    for step in range(40):
+        _, _, terminated, _, info = env.step(np.zeros(env.action_space.shape))
+        flags.append(info["slippery"])
+        expected = 0.5 if step >= at else 1.0
+        assert env.model.geom_friction[pole, 0] == expected, step
+        if terminated:
+            break
+    assert flags[: min(at, len(flags))] == [False] * min(at, len(flags))
+    env.reset(seed=4)
+    assert env.model.geom_friction[pole, 0] == 1.0 and env._friction_step.at == at
+    plain = ACLClimbEnv(steps_per_cycle=20, cycles_per_episode=2)
+    assert "slippery" not in plain.reset(seed=4)[1] and plain._friction_step is None
+    with pytest.raises(ValueError, match="friction_step"):
+        ACLClimbEnv(friction_step=-1.0)

@@ -37,6 +37,7 @@ def _play_both(env_id: str, steps: int, num_envs: int, **kwargs: Any) -> int:
         assert got[4].keys() == want[4].keys(), f"{env_id} step {t}"
         for key in got[4]:
             np.testing.assert_array_equal(got[4][key], want[4][key], err_msg=f"{key} step {t}")
+            assert got[4][key].dtype == want[4][key].dtype, f"{key} step {t}"
         ended += int(got[2].sum() + got[3].sum())
     native.close()
     sync.close()

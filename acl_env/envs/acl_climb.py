@@ -22,6 +22,7 @@ from acl_env.envs import observations as layouts
 from acl_env.envs.arguments import ARGUMENTS, signature
 from acl_env.envs.config import EnvConfig, check_camera
 from acl_env.envs.contacts import ContactSampler
+from acl_env.envs.events import FrictionStep
 from acl_env.envs.gait_config import GAITS, cached_gait
 from acl_env.envs.grip import GRIP_RANGE, GripController
 from acl_env.envs.lifecycle import LifecycleMixin
@@ -115,20 +116,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     at every reset.
 
     ## Version History
-    * v1: physics step 1/300 s instead of 2 ms (``timestep=0.002`` is v0's). Later options, off
-      by default, leave the dynamics and reward unchanged (``roll_limit``, ``squeeze_slope``,
-      ``tuned_gait``, ``roll``, ``energy``, ``action_rate``, ``gait_modulation``, the SEA's).
-    * Non-rolling task: v3 plays ``acl_noroll`` with ``squeeze_slope``; v2 fixed the gait tables
-      on thin poles; v1 is no longer registered.
-    * ACLClimb-v2 and ACLClimbNoRoll-v4 (now ACLClimbServo-v1 and ACLClimbNoRollServo-v1): v1
-      and v3 with the shipped policies' tasks as defaults (``acl_env.BENCHMARK_KWARGS``,
-      ``acl_env.NOROLL_BENCHMARK_KWARGS``); the same physics.
-    * ACLClimb-v3 and ACLClimbNoRoll-v5: those tasks on the series elastic actuators
-      (``actuator_model="sea"``), each on the gait tuned there (``acl_sea``, ``acl_noroll_sea``).
-    * Renamed so that one name is one task (its actuator model, gait family and grip): ACLClimb-v1
-      is ACLClimbPaperGait-v1, ACLClimb-v2 ACLClimbServo-v1, ACLClimbNoRoll-v2/-v3
-      ACLClimbNoRollBase-v2/-v3, ACLClimbNoRoll-v4 ACLClimbNoRollServo-v1; the old ids make the
-      same env with a deprecation note naming the new one (``acl_env.RENAMED_IDS``).
+    The ids' versions and renames: ``docs/environments.md#version-history``. Options added
+    later, off by default, leave the dynamics and reward unchanged (``friction_step`` too).
     """
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -178,6 +167,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             grip = (grip_config.target, grip_config.gain, grip_config.leak)
             self._grip = GripController(gait.section_weights, *grip)
         self._physics = StepPhysics(self, self._contacts, self._readout)
+        drop = config.physics.friction_step  # the pole turning slippery (envs/events.py)
+        self._friction_step = None if drop is None else FrictionStep(drop, elements)
         self._root_body = elements.snake_bodies[0]
         # Views into MjData made once: each attribute access of MjData builds a new array view.
         data = self.data
@@ -266,6 +257,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._keyframe = float((self._k0 + 1) % self.steps_per_cycle)
         self._com_start = self._com_view[2]
         self._roll = termination.RollSpan.begin(self._body_roll.angles())
+        if self._friction_step is not None:  # drawn last: the other draws as without it
+            self._friction_step.reset(rng, self.steps_per_cycle * self.cycles_per_episode)
         return self._get_obs()
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
@@ -282,6 +275,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         phase = self._keyframe / self.steps_per_cycle
         com_before = float(self._com_view[2])
         self._stability.start()
+        drop = self._friction_step
+        slippery = drop is not None and drop.before_step(self.model, self._step_count)
         run = self._physics.run(target, int(self._keyframe), self._stiffness, self._grip)
         slip, touched, grounded, energy = run
         self._step_count += 1
@@ -318,6 +313,8 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             "body_rolls": self._roll.body_rolls,
             "rolled": rolled,
         }
+        if drop is not None:
+            info["slippery"] = slippery
         obs = self._get_obs() if not unstable else np.zeros(self.observation_space.shape)
         if self.render_mode == "human":
             self.render()

@@ -77,6 +77,14 @@ ARGUMENTS: tuple[Argument, ...] = (
     Argument("pole_radius", DEFAULT_POLE_RADIUS, float, "physics", "[0.01, 0.5]", "m"),
     Argument("friction", DEFAULT_FRICTION, float, "physics", "(0, 5]", "of the skin and the pole"),
     Argument(
+        "friction_step",
+        None,
+        float | None,
+        "physics",
+        "None or (0, 5]",
+        "friction the pole drops to at a random step of the episode",
+    ),
+    Argument(
         "squeeze",
         None,
         float | None,

@@ -131,26 +131,30 @@ def _timestep(value: object) -> tuple[float, int]:
 
 @dataclass(frozen=True)
 class PhysicsConfig:
-    """The physics and the pole: joints, pole radius (m), friction, physics step (s), and the
-    physics steps per 0.1 s control step (``frame_skip``)."""
+    """The physics and the pole: joints, pole radius (m), friction, physics step (s), the
+    physics steps per 0.1 s control step (``frame_skip``), and the friction the pole drops to at
+    a random step (``friction_step``; None: it does not)."""
 
     n_joints: int
     pole_radius: float
     friction: float
     timestep: float
     frame_skip: int
+    friction_step: float | None = None  # the friction the pole drops to mid-episode (events.py)
 
     @classmethod
-    def checked(
-        cls, n_joints: object, pole_radius: object, friction: object, timestep: object
-    ) -> PhysicsConfig:
-        step, frame_skip = _timestep(timestep)
+    def checked(cls, raw: Mapping[str, Any]) -> PhysicsConfig:
+        step, frame_skip = _timestep(raw["timestep"])
+        drop = raw["friction_step"]
         return cls(
-            n_joints=check_int("n_joints", n_joints, *N_JOINTS_RANGE),
-            pole_radius=check_range("pole_radius", pole_radius, *POLE_RADIUS_RANGE),
-            friction=check_positive("friction", friction, FRICTION_MAX),
+            n_joints=check_int("n_joints", raw["n_joints"], *N_JOINTS_RANGE),
+            pole_radius=check_range("pole_radius", raw["pole_radius"], *POLE_RADIUS_RANGE),
+            friction=check_positive("friction", raw["friction"], FRICTION_MAX),
             timestep=step,
             frame_skip=frame_skip,
+            friction_step=None
+            if drop is None
+            else check_positive("friction_step", drop, FRICTION_MAX),
         )
 
 
@@ -278,9 +282,7 @@ class EnvConfig:
                 f"(accepted: {', '.join(DEFAULTS)})"
             )
         raw = {**DEFAULTS, **kwargs}
-        physics = PhysicsConfig.checked(
-            raw["n_joints"], raw["pole_radius"], raw["friction"], raw["timestep"]
-        )
+        physics = PhysicsConfig.checked(raw)
         name = check_choice("actuator_model", raw["actuator_model"], tuple(ACTUATOR_MODELS))
         model = ACTUATOR_MODELS[name]
         options = actuator_options(model, {o: raw[o] for o in all_options()})

@@ -80,9 +80,7 @@ class ACLClimbVectorEnv(VectorEnv):
                 raise ValueError(f"seed must give {self.num_envs} seeds, got {len(seeds)}")
         results = self._map(lambda i: self.envs[i].reset(seed=seeds[i], options=options))
         self._autoreset[:] = False
-        infos: dict[str, Any] = {}
-        for i, (_, info) in enumerate(results):
-            infos = self._add_info(infos, info, i)
+        infos = self._merged_infos([info for _, info in results])
         observations = [obs for obs, _ in results]
         concatenate(self.single_observation_space, observations, self._observations)
         return self._observations.copy(), infos
@@ -101,14 +99,13 @@ class ACLClimbVectorEnv(VectorEnv):
             return env.step(actions[i])
 
         results = self._map(one)
-        infos: dict[str, Any] = {}
-        for i, (_, reward, terminated, truncated, info) in enumerate(results):
+        for i, (_, reward, terminated, truncated, _) in enumerate(results):
             self._rewards[i], self._terminations[i], self._truncations[i] = (
                 reward,
                 terminated,
                 truncated,
             )
-            infos = self._add_info(infos, info, i)
+        infos = self._merged_infos([r[4] for r in results])
         concatenate(self.single_observation_space, [r[0] for r in results], self._observations)
         self._autoreset = self._terminations | self._truncations
         return (
@@ -118,6 +115,27 @@ class ACLClimbVectorEnv(VectorEnv):
             self._truncations.copy(),
             infos,
         )
+
+    def _merged_infos(self, infos: list[dict[str, Any]]) -> dict[str, Any]:
+        """The worlds' infos as Gymnasium's vector envs give them (each key an array over the
+        worlds, ``_key`` the mask of worlds that have it). When every world reports the same
+        scalar keys, as the climbing env does, the arrays are built at once, with the dtypes
+        ``VectorEnv._add_info`` gives (the first world's value's type); else through it."""
+        keys = infos[0].keys()
+        scalar = (bool, int, float, np.number)
+        if all(info.keys() == keys for info in infos) and all(
+            isinstance(v, scalar) for v in infos[0].values()
+        ):
+            merged: dict[str, Any] = {}
+            for key in keys:
+                kind = type(infos[0][key])
+                merged[key] = np.array([info[key] for info in infos], dtype=kind)
+                merged[f"_{key}"] = np.ones(self.num_envs, dtype=np.bool_)
+            return merged
+        merged = {}
+        for i, info in enumerate(infos):
+            merged = self._add_info(merged, info, i)
+        return merged
 
     def render(self) -> tuple[Any, ...] | None:
         """Each world's frame (``render_mode`` as the single env's)."""

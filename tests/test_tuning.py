@@ -598,3 +598,45 @@ def test_a_worker_waits_for_a_trial_running_elsewhere_and_retries_it_when_its_he
     retried = [t for t in trials if t.system_attrs.get("failed_trial") == stale.number]
     assert len(retried) == 1 and retried[0].state in FINISHED
     assert len(load(tmp_path).get_trials(states=FINISHED)) == 3
+
+
+def test_cvar_is_the_mean_of_the_worst_share() -> None:
+    assert objective.cvar([0.3, -1.0, 0.1, 0.2], 0.25) == -1.0
+    assert objective.cvar([0.3, -1.0, 0.1, 0.2], 0.5) == pytest.approx(-0.45)
+    assert objective.cvar([0.3, 0.1], 1.0) == pytest.approx(0.2)
+    assert objective.cvar([0.3], 0.01) == 0.3  # at least one score
+
+
+def test_cvar_study_scores_falls_instead_of_pruning_them(tmp_path: Path) -> None:
+    """``--cvar``: every condition is played; one where the gait falls scores FALL_SCORE, and
+    the trial's value is the mean of its worst share of conditions, not a pruned trial."""
+    grid = ["--condition", "friction:[0.05,1.0]", "--cvar", "0.5"]
+    main(tiny_args(tmp_path, "--n-trials", "2", *grid))
+    trials = load(tmp_path).get_trials(states=(optuna.trial.TrialState.COMPLETE,))
+    assert len(trials) == 2
+    for trial in trials:
+        scores = trial.user_attrs["condition_scores"]
+        assert len(scores) == 2 and trial.user_attrs["seeds_run"] == 2
+        assert trial.value == pytest.approx(objective.cvar(scores, 0.5)) == min(scores)
+    fell = [t for t in trials if t.user_attrs["conditions_fallen"]]
+    assert fell, "friction 0.05 should make the gait fall"
+    assert all(objective.FALL_SCORE in t.user_attrs["condition_scores"] for t in fell)
+    study = load(tmp_path)
+    assert study.user_attrs["settings"]["cvar"] == 0.5
+    # The re-measurement on new seeds scores the same way (the validated entry's CVaR).
+    validated = [v for k, v in study.user_attrs.items() if k.startswith("validation_")]
+    assert validated and all(len(v["condition_scores"]) == 2 for v in validated)
+    assert all(v["cvar"] == min(v["condition_scores"]) for v in validated)
+
+
+def test_cvar_needs_a_maximised_objective_and_a_share(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    for extra, words in (
+        (["--cvar", "0"], "(0, 1]"),
+        (["--cvar", "0.5", "--objective", "slip_per_m"], "maximised"),
+    ):
+        with pytest.raises(SystemExit) as exc:
+            main(tiny_args(tmp_path, "--n-trials", "1", *extra))
+        err = capsys.readouterr().err
+        assert exc.value.code == 2 and "--cvar" in err and words in err, (extra, err)

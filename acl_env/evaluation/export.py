@@ -143,16 +143,8 @@ def export_policy(
     space = model.action_space
     # The registered id whose defaults are the task it was trained on, where there is one.
     env_id, env_kwargs = on_benchmark_id(folder.env_id, folder.env_kwargs)
-    observation_names, action_names = entry_names(env_id, env_kwargs)
-    for what, names, shape in (
-        ("observation", observation_names, model.observation_space.shape),
-        ("action", action_names, space.shape),
-    ):
-        if names and len(names) != int(np.prod(shape)):
-            raise ValueError(
-                f"{folder.path}: its {what} has {int(np.prod(shape))} entries, but {env_id} with "
-                f"its kwargs names {len(names)}"
-            )
+    sizes = {"observation": model.observation_space.shape, "action": space.shape}
+    observation_names, action_names = entry_names(env_id, env_kwargs, sizes, folder.path)
     metadata = {
         "format": FORMAT,
         "name": name,
@@ -185,9 +177,27 @@ def export_policy(
     return out
 
 
-def entry_names(env_id: str, env_kwargs: dict[str, Any]) -> tuple[list[str], list[str]]:
+def entry_names(
+    env_id: str,
+    env_kwargs: dict[str, Any],
+    sizes: dict[str, tuple[int, ...]] | None = None,
+    source: Path | None = None,
+) -> tuple[list[str], list[str]]:
     """The names of the observation's and the action's entries of the env the policy was
-    trained on (its layouts, ``acl_env.envs.observations``); empty for an env without them."""
+    trained on (its layouts, ``acl_env.envs.observations``); empty for an env without them.
+    ``ValueError`` (naming ``source``) unless there are as many as the shapes ``sizes`` hold."""
+    names = _layout_names(env_id, env_kwargs)
+    for (what, shape), named in zip((sizes or {}).items(), names, strict=False):
+        if named and len(named) != int(np.prod(shape)):
+            raise ValueError(
+                f"{source}: its {what} has {int(np.prod(shape))} entries, but {env_id} with "
+                f"its kwargs names {len(named)}"
+            )
+    return names
+
+
+def _layout_names(env_id: str, env_kwargs: dict[str, Any]) -> tuple[list[str], list[str]]:
+    """The entries' names of ``env_id`` with ``env_kwargs`` (empty without layouts)."""
     from acl_env.envs.kwargs import make_quietly
     from acl_env.envs.observations import env_action_layout, env_observation_names, names
 

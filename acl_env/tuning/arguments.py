@@ -57,6 +57,15 @@ def make_parser() -> ArgumentParser:
         f"{list(CONDITIONS)} (e.g. friction:0.5)",
     )
     parser.add_argument(
+        "--cvar",
+        type=float,
+        default=None,
+        metavar="SHARE",
+        help="risk-averse: score the mean of the worst SHARE (0, 1] of the --condition grid's "
+        "conditions, a fall counting as the worst score, instead of the mean with falls "
+        "disqualifying (a maximised --objective only)",
+    )
+    parser.add_argument(
         "--config",
         default=str(DEFAULT_CONFIG),
         help="training recipe (zoo YAML; default: the shipped one)",

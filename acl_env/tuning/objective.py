@@ -36,6 +36,10 @@ from acl_env.tuning.space import (
 from acl_env.tuning.stop import stop_point
 
 DEFAULT_SEEDS = (0, 1, 2)
+# What a condition where the gait falls (or rolls past roll_limit) scores under --cvar: worse than
+# any gait that holds on (a fall ends the episode at 0.2 m below the start, about -0.1 m per cycle
+# at most for a gait that slides down without falling; reward per gait cycle is of that order).
+FALL_SCORE = -1.0
 # Metrics a study can optimise, with their direction (names as in acl_env.evaluation).
 OBJECTIVES = {
     "reward_per_gait_cycle": "maximize",
@@ -61,6 +65,9 @@ class TuneSettings:
     space: dict[str, ParamRange] = field(default_factory=lambda: dict(SEARCH_SPACE))
     condition: dict[str, float | list[float]] = field(default_factory=dict)
     grip: bool = False  # search the compliant grip (GRIP_SPACE) on the env's own gait
+    # Risk-averse: score the mean of the worst ``cvar`` share of the conditions (CVaR), a fall
+    # counting as FALL_SCORE, instead of the mean with falls disqualifying.
+    cvar: float | None = None
 
     @property
     def direction(self) -> str:
@@ -75,6 +82,8 @@ class TuneSettings:
             del out["condition"]
         if not self.grip:  # nor do those from before --grip
             del out["grip"]
+        if self.cvar is None:  # nor those from before --cvar
+            del out["cvar"]
         return out
 
     @property
@@ -149,6 +158,47 @@ def rollout(env: gymnasium.Env, seeds: Sequence[int]) -> list[dict[str, float]]:
     return episodes
 
 
+def cvar(scores: Sequence[float], share: float) -> float:
+    """The mean of the worst ``share`` of ``scores`` (higher is better): CVaR at level
+    ``share``, over at least one score."""
+    worst = sorted(scores)[: max(1, math.ceil(share * len(scores) - 1e-9))]
+    return sum(worst) / len(worst)
+
+
+def condition_scores(
+    settings: TuneSettings, envs: Sequence[gymnasium.Env], seeds: Sequence[int]
+) -> tuple[list[float], list[dict[str, float]], int]:
+    """Each condition's (env's) score: the mean of the objective over ``seeds``, or
+    :data:`FALL_SCORE` if the gait fell or rolled there; with every episode and how many
+    conditions the gait fell in. Every condition is played."""
+    scores, episodes, fallen = [], [], 0
+    for env in envs:
+        runs = rollout(env, seeds)
+        episodes += runs
+        if runs[-1]["falls"] or runs[-1]["rolled"]:
+            scores.append(FALL_SCORE)
+            fallen += 1
+            continue
+        score = mean_ci95(r[settings.objective] for r in runs)["mean"]
+        scores.append(FALL_SCORE if math.isnan(score) else score)
+    return scores, episodes, fallen
+
+
+def risk_averse_value(
+    trial: optuna.Trial, settings: TuneSettings, envs: Sequence[gymnasium.Env]
+) -> float:
+    """A trial's value under ``--cvar``: the :func:`cvar` of its :func:`condition_scores`.
+    The scores, the conditions fallen in and the metrics' means over all episodes are the
+    trial's user attributes."""
+    scores, episodes, fallen = condition_scores(settings, envs, settings.seeds)
+    for name in METRICS:
+        trial.set_user_attr(name, mean_ci95(e[name] for e in episodes)["mean"])
+    trial.set_user_attr("seeds_run", len(episodes))
+    trial.set_user_attr("condition_scores", scores)
+    trial.set_user_attr("conditions_fallen", fallen)
+    return cvar(scores, settings.cvar or 1.0)
+
+
 def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict[str, float]:
     """The trial's gait parameters from the search space."""
     params: dict[str, float] = {}
@@ -162,8 +212,9 @@ def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict
 
 def make_objective(settings: TuneSettings, heartbeat: int = 0) -> Callable[[optuna.Trial], float]:
     """Optuna objective: the mean of ``settings.objective`` over the seeds (and conditions),
-    falls disqualifying. A trial records its worker (``host:pid``) and, if its storage beats
-    (:mod:`~acl_env.tuning.study`), the ``heartbeat`` interval: other workers wait for it."""
+    falls disqualifying; with ``settings.cvar``, :func:`risk_averse_value`. A trial records its
+    worker (``host:pid``) and, if its storage beats (:mod:`~acl_env.tuning.study`), the
+    ``heartbeat`` interval: other workers wait for it."""
 
     def objective(trial: optuna.Trial) -> float:
         if heartbeat:
@@ -181,6 +232,8 @@ def make_objective(settings: TuneSettings, heartbeat: int = 0) -> Callable[[optu
             if saturation.sample_fraction > settings.max_clipped:
                 trial.set_user_attr("disqualified", "saturated")
                 raise optuna.TrialPruned(f"joint limit clips {saturation.sample_fraction:.0%}")
+            if settings.cvar is not None:
+                return risk_averse_value(trial, settings, envs)
             episodes, where = rollout_all(envs, settings.seeds)
         finally:
             for env in envs:

@@ -18,7 +18,7 @@ from tqdm import tqdm
 
 from acl_env.evaluation import METRICS, mean_ci95
 from acl_env.io import jsonable
-from acl_env.tuning.objective import TuneSettings, rollout_all
+from acl_env.tuning.objective import TuneSettings, condition_scores, cvar, rollout_all
 from acl_env.tuning.study import FINISHED
 
 
@@ -55,37 +55,58 @@ def validate(
         key = f"validation_{trial.number}"
         stored = study.user_attrs.get(key)
         if stored is None or stored["seeds"] != seeds:
-            envs = settings.make_envs({k: trial.params[k] for k in settings.space})
-            episodes, _ = rollout_all(envs, seeds)
-            for env in envs:
-                env.close()
-            summaries = {m: mean_ci95(e[m] for e in episodes) for m in METRICS}
-            stored = {
-                "seeds": seeds,
-                "episodes": len(episodes),
-                "fell": any(e["falls"] for e in episodes),
-                "rolled": any(e["rolled"] for e in episodes),
-                "max_touched_arc_deg": max(e["touched_arc_deg"] for e in episodes),
-                "metrics": {m: summary["mean"] for m, summary in summaries.items()},
-                "ci95_half_width": {m: summary["half_width"] for m, summary in summaries.items()},
-            }
+            stored = _measure(settings, trial, seeds)
             study.set_user_attr(key, jsonable(stored))
         results[trial.number] = {**stored, "candidate": trial in candidates}
 
     def holds(trial: optuna.trial.FrozenTrial) -> bool:
         result = results[trial.number]
+        if settings.cvar is not None:  # its falls are in its score
+            return True
         arc_limit = settings.max_touched_arc_deg
         return not (result["fell"] or result.get("rolled")) and (
             arc_limit is None or result["max_touched_arc_deg"] <= arc_limit
         )
 
     def validated_value(trial: optuna.trial.FrozenTrial) -> float:
-        value = results[trial.number]["metrics"][settings.objective]
+        result = results[trial.number]
+        value = (
+            result["cvar"] if settings.cvar is not None else result["metrics"][settings.objective]
+        )
         return -math.inf if value is None or math.isnan(value) else sign * value
 
     holding = [t for t in candidates if holds(t)]
     chosen = max(holding, key=validated_value) if holding else best
     return chosen, results
+
+
+def _measure(
+    settings: TuneSettings, trial: optuna.trial.FrozenTrial, seeds: list[int]
+) -> dict[str, Any]:
+    """``trial``'s gait played on ``seeds`` in every condition: its metrics' means and 95 %
+    half-widths, whether it fell or rolled, its largest touched arc; under ``--cvar`` also each
+    condition's score and their CVaR."""
+    envs = settings.make_envs({k: trial.params[k] for k in settings.space})
+    if settings.cvar is None:
+        episodes, _ = rollout_all(envs, seeds)
+    else:  # risk-averse: every condition played, falls scored, not disqualifying
+        scores, episodes, _ = condition_scores(settings, envs, seeds)
+    for env in envs:
+        env.close()
+    summaries = {m: mean_ci95(e[m] for e in episodes) for m in METRICS}
+    stored = {
+        "seeds": seeds,
+        "episodes": len(episodes),
+        "fell": any(e["falls"] for e in episodes),
+        "rolled": any(e["rolled"] for e in episodes),
+        "max_touched_arc_deg": max(e["touched_arc_deg"] for e in episodes),
+        "metrics": {m: summary["mean"] for m, summary in summaries.items()},
+        "ci95_half_width": {m: summary["half_width"] for m, summary in summaries.items()},
+    }
+    if settings.cvar is not None:
+        stored["cvar"] = cvar(scores, settings.cvar)
+        stored["condition_scores"] = scores
+    return stored
 
 
 def tuned_entry(

@@ -44,10 +44,23 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         space=space,
         condition=condition,
         grip=args.grip,
+        cvar=_checked_cvar(args),
     )
     for values in settings.conditions():  # the env checks the condition's values
         _check_env(env_id, "--condition", **values)
     return settings
+
+
+def _checked_cvar(args: argparse.Namespace) -> float | None:
+    """``--cvar``: a share in (0, 1], for an objective the study maximises."""
+    share = getattr(args, "cvar", None)
+    if share is None:
+        return None
+    if not 0.0 < share <= 1.0:
+        raise UsageError("--cvar", f"must be in (0, 1], got {share}")
+    if OBJECTIVES[args.objective] != "maximize":
+        raise UsageError("--cvar", f"needs a maximised --objective, got {args.objective!r}")
+    return float(share)
 
 
 def _checked_limits(args: argparse.Namespace) -> float | None:

@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from acl_env.actuators import all_options
 from acl_env.envs.grip import GRIP_LEAK
 from acl_env.gait.gaits import (
     DEFAULT_AMP_PITCH,
@@ -24,8 +25,9 @@ from acl_env.tuned_gaits import GRIP_KWARGS
 # law, searched on the env's own gait); the rest are gait_kwargs.
 ENV_PARAMS = ("squeeze", *GRIP_KWARGS)
 # Env arguments --condition may fix for a whole study (the physical conditions of the held-out
-# evaluation); the env checks their values.
-CONDITIONS = ("pole_radius", "friction", "kp")
+# evaluation and the benchmark grid: the pole, friction, and the actuator models' options, such
+# as the servo's kp or the SEA's spring_stiffness and control_latency); the env checks them.
+CONDITIONS = ("pole_radius", "friction", *all_options())
 
 
 class UsageError(ValueError):

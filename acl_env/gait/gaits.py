@@ -88,12 +88,12 @@ class Gait:
 
     def __init__(
         self,
-        n_joints: int,
-        module_length: float,
-        radius: float,
-        pitch: float,
-        rolls_per_cycle: float,
-        steps_per_cycle: int,
+        n_joints: int = DEFAULT_N_JOINTS,
+        module_length: float = SEA_MODULE_LENGTH,
+        radius: float = DEFAULT_RADIUS,
+        pitch: float = DEFAULT_PITCH,
+        rolls_per_cycle: float = 1.0,
+        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
         module_diameter: float = SEA_MODULE_DIAMETER,
         rock_amp: float = 0.0,
         rock_phase: float = 0.0,
@@ -203,33 +203,23 @@ class RollingHelixGait(Gait):
     lateral joint ``j`` = A sin(phi_0 + tau l (j + 1)).
     """
 
-    def __init__(
-        self,
-        n_joints: int = DEFAULT_N_JOINTS,
-        module_length: float = SEA_MODULE_LENGTH,
-        radius: float = DEFAULT_RADIUS,
-        pitch: float = DEFAULT_PITCH,
-        rolls_per_cycle: float = 1.0,
-        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
-        module_diameter: float = SEA_MODULE_DIAMETER,
-        rock_amp: float = 0.0,
-        rock_phase: float = 0.0,
-    ) -> None:
-        super().__init__(
-            n_joints,
-            module_length,
-            radius,
-            pitch,
-            rolls_per_cycle,
-            steps_per_cycle,
-            module_diameter,
-            rock_amp,
-            rock_phase,
-        )
+    # Its arguments are the shared ones (Gait.__init__); the closed form's constants follow.
+    @property
+    def kappa(self) -> float:
+        """Curvature of the helix (1/m)."""
         b = self.pitch / (2.0 * np.pi)
-        self.kappa = self.radius / (self.radius**2 + b**2)
-        self.tau = b / (self.radius**2 + b**2)
-        self.amplitude = 2.0 * self.kappa * np.sin(self.tau * self.module_length) / self.tau
+        return self.radius / (self.radius**2 + b**2)
+
+    @property
+    def tau(self) -> float:
+        """Torsion of the helix (1/m)."""
+        b = self.pitch / (2.0 * np.pi)
+        return b / (self.radius**2 + b**2)
+
+    @property
+    def amplitude(self) -> float:
+        """The joints' amplitude (rad)."""
+        return 2.0 * self.kappa * np.sin(self.tau * self.module_length) / self.tau
 
     def raw_angles(self, phases: np.ndarray) -> np.ndarray:
         arg = self.roll_offset(phases)[:, None] + self.tau * self.joint_arclengths

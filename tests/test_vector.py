@@ -76,3 +76,36 @@ def test_bad_arguments_are_refused_by_name() -> None:
     with pytest.raises(ValueError, match="2 seeds"):
         env.reset(seed=[1, 2, 3])
     env.close()
+
+
+def test_sb3_thread_vec_env_equals_dummy_vec_env() -> None:
+    """``acl-train --vec-env threads``: SB3's DummyVecEnv semantics, the envs on threads."""
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from acl_env.training.thread_vec_env import ThreadVecEnv
+
+    def fns() -> list:
+        return [lambda: gym.make(acl_env.ACL_CLIMB_SEA_ID, **SHORT) for _ in range(3)]
+
+    threaded, plain = ThreadVecEnv(fns(), threads=2), DummyVecEnv(fns())
+    for env in (threaded, plain):
+        env.seed(7)
+    np.testing.assert_array_equal(threaded.reset(), plain.reset())
+    rng, ended = np.random.default_rng(1), 0
+    for _ in range(45):
+        action = rng.uniform(-1.0, 1.0, (3, *plain.action_space.shape)).astype(np.float32)
+        for env in (threaded, plain):
+            env.step_async(action)
+        (obs, rew, done, info), (obs2, rew2, done2, info2) = threaded.step_wait(), plain.step_wait()
+        np.testing.assert_array_equal(obs, obs2)
+        np.testing.assert_array_equal(rew, rew2)
+        np.testing.assert_array_equal(done, done2)
+        for a, b in zip(info, info2, strict=True):
+            assert a.keys() == b.keys()
+            if "terminal_observation" in a:
+                np.testing.assert_array_equal(a["terminal_observation"], b["terminal_observation"])
+        ended += int(done.sum())
+    assert ended >= 3
+    threaded.close()
+    plain.close()

@@ -98,8 +98,9 @@ def make_parser() -> cli.ArgumentParser:
     )
     parser.add_argument(
         "--vec-env",
-        choices=("subproc", "dummy"),
-        help="env workers: one subprocess per env, or all in the trainer (default subproc)",
+        choices=("subproc", "dummy", "threads"),
+        help="env workers: subprocesses (--workers of them), all in the trainer, or in the "
+        "trainer on --workers threads (default subproc)",
     )
     parser.add_argument(
         "--workers",

@@ -33,10 +33,11 @@ def make_training_env(
 ) -> Any:
     """Monitored envs: spread over ``workers`` subprocesses (``subproc``, default one per core;
     forkserver, so workers start clean), or all in this process (``dummy``, and always for a
-    single env)."""
+    single env), or in this process on ``workers`` threads (``threads``)."""
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv
 
+    from acl_env.training.thread_vec_env import ThreadVecEnv
     from acl_env.training.vec_env import MultiEnvSubprocVecEnv
 
     n_envs = int(hyperparams.get("n_envs", 1))
@@ -51,13 +52,19 @@ def make_training_env(
                 "acl_env.training.timing",
             ]
         )
+    threads = vec_env == "threads" and n_envs > 1
+    vec_class = ThreadVecEnv if threads else DummyVecEnv
+    vec_kwargs = None
+    if subproc or threads:
+        count = n_workers({"workers": workers}, n_envs)
+        vec_kwargs = {"n_workers": count} if subproc else {"threads": count}
     return make_vec_env(
         functools.partial(timed_env, env_id, subproc),
         n_envs=n_envs,
         seed=seed,
         env_kwargs=hyperparams.get("env_kwargs") or {},
-        vec_env_cls=MultiEnvSubprocVecEnv if subproc else DummyVecEnv,
-        vec_env_kwargs={"n_workers": n_workers({"workers": workers}, n_envs)} if subproc else None,
+        vec_env_cls=MultiEnvSubprocVecEnv if subproc else vec_class,
+        vec_env_kwargs=vec_kwargs,
     )
 
 

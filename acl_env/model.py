@@ -23,10 +23,7 @@ from acl_env.constants import (
     DEFAULT_KP,
     DEFAULT_N_JOINTS,
     DEFAULT_POLE_RADIUS,
-    FLOOR_GEOM,
     IMPRATIO,
-    IMU_GYRO_SENSOR,
-    IMU_QUAT_SENSOR,
     IMU_SITE,
     MODULE_CLASS,
     MODULE_MASS,
@@ -36,7 +33,6 @@ from acl_env.constants import (
     SCENE_FILE,
     SEA_MODULE_LENGTH,
     SEA_MODULE_RADIUS,
-    SIDE_CAMERA,
     TRACK_CAMERA,
     actuator_name,
     joint_name,
@@ -45,23 +41,12 @@ from acl_env.constants import (
 )
 from acl_env.gait.kinematics import joint_axes
 
-# The element names live in acl_env.constants; they are re-exported here for the model's users.
 __all__ = [
-    "FLOOR_GEOM",
-    "IMU_GYRO_SENSOR",
-    "IMU_QUAT_SENSOR",
-    "POLE_GEOM",
-    "SCENE_FILE",
-    "SIDE_CAMERA",
-    "TRACK_CAMERA",
-    "actuator_name",
+    "apply_physics_options",
     "assets_dir",
     "build_model",
     "build_spec",
-    "joint_name",
-    "link_name",
     "sensor_indices",
-    "shell_name",
     "snake_geom_ids",
 ]
 

@@ -18,7 +18,13 @@ from acl_env import (
     ACL_CLIMB_SEA_ID,
     ROLLING_HELIX_CLIMB_ID,
 )
-from acl_env.constants import PHYSICS_TIMESTEP, SEA_MODULE_LENGTH, SEA_MODULE_RADIUS
+from acl_env.constants import (
+    PHYSICS_TIMESTEP,
+    POLE_GEOM,
+    SEA_MODULE_LENGTH,
+    SEA_MODULE_RADIUS,
+    joint_name,
+)
 from acl_env.envs import ACLClimbEnv
 from acl_env.gait import ACLGait
 from acl_env.gait.kinematics import (
@@ -27,7 +33,6 @@ from acl_env.gait.kinematics import (
     min_axis_distance,
     rigid_fit,
 )
-from acl_env.model import POLE_GEOM, joint_name
 
 ENV_IDS = [ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID]
 SHORT = {"steps_per_cycle": 20, "cycles_per_episode": 1}

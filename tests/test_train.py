@@ -32,6 +32,7 @@ from acl_env import (
     tuned_gaits,
 )
 from acl_env.envs import ACLClimbEnv
+from acl_env.io import parse_kv_pairs
 from acl_env.training import config
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -426,7 +427,7 @@ def test_config_strings_are_parsed_without_eval() -> None:
     assert parsed == {"activation_fn": torch.nn.ReLU, "net_arch": [64], "x": -1e-3}
     with pytest.raises(ValueError):
         config.parse_python_literal("__import__('os').system('true')")
-    assert config.parse_kv_pairs(["a:0.5", "b:acl", "c:{'k': [1, 2]}"]) == {
+    assert parse_kv_pairs(["a:0.5", "b:acl", "c:{'k': [1, 2]}"]) == {
         "a": 0.5,
         "b": "acl",
         "c": {"k": [1, 2]},

@@ -30,11 +30,11 @@ from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.vec_env import VecNormalize
 
 from acl_env import ACL_CLIMB_ID
+from acl_env.io import write_json
 from acl_env.training import trainer
 from acl_env.training.arguments import make_parser
 from acl_env.training.model_setup import make_training_env
 from acl_env.training.plan import plan_segment, segment_seed
-from acl_env.training.runs import write_json
 
 ROLLOUT = 128  # env steps per update: n_steps 64 x 2 envs
 EPS = 1e-4  # RunningMeanStd's initial count
@@ -336,7 +336,7 @@ BAD_NEW_RUNS = [
     (["--n-envs", "0"], "--n-envs"),
     (["--seed", "-1"], "--seed"),
     (["--torch-threads", "0"], "--torch-threads"),
-    (["--vec-env", "threads"], "--vec-env"),
+    (["--vec-env", "processes"], "--vec-env"),
     (["--device", "tpu"], "--device"),
     (["--exp-name", "a/b"], "--exp-name"),
     (["--env", "acl_env/NoSuchEnv-v0"], "--env"),

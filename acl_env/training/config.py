@@ -33,7 +33,6 @@ import yaml
 import acl_env  # noqa: F401  (registers the acl_env/* ids)
 from acl_env import current_id, shipped, tuned_gaits
 from acl_env.io import atomic_write
-from acl_env.io import parse_kv_pairs as parse_kv_pairs  # the one key:value parser, re-exported
 
 # Config keys consumed here rather than passed to the SB3 algorithm.
 NON_ALGO_KEYS = ("n_envs", "n_timesteps", "normalize", "env_kwargs", "callback")

@@ -14,6 +14,7 @@ from typing import Any
 import yaml
 
 from acl_env import ACL_CLIMB_SEA_ID
+from acl_env.io import read_json
 from acl_env.training.arguments import DEFAULT_CONFIG, DEFAULT_SETTINGS, RECIPE_OPTIONS
 from acl_env.training.config import RecipeError, load_hyperparams, normalize_kwargs
 from acl_env.training.plan_checks import bad_argument, check_saved_model, check_trusted
@@ -25,7 +26,6 @@ from acl_env.training.runs import (
     is_pickle,
     latest_model,
     model_steps,
-    read_json,
     run_config,
 )
 

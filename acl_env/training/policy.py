@@ -22,8 +22,7 @@ import gymnasium
 import numpy as np
 
 from acl_env import pretrained
-from acl_env.pretrained import PretrainedPolicy
-from acl_env.pretrained import SpaceMismatchError as SpaceMismatchError  # re-exported
+from acl_env.pretrained import PretrainedPolicy, SpaceMismatchError
 from acl_env.training.config import normalize_kwargs
 from acl_env.training.runs import (
     CONFIG_FILE,

@@ -20,10 +20,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-# The one JSON writer and reader are acl_env.io's, re-exported here for the commands.
-from acl_env.io import atomic_write as atomic_write
-from acl_env.io import read_json as read_json
-from acl_env.io import write_json as write_json
+from acl_env.io import atomic_write
 
 MODEL_FILE = "model.zip"
 VECNORMALIZE_FILE = "vecnormalize.pkl"

@@ -10,10 +10,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from acl_env.io import GuardedOutput
+from acl_env.io import GuardedOutput, read_json, write_json
 from acl_env.training.config import save_hyperparams
 from acl_env.training.plan import Plan
-from acl_env.training.runs import ARGS_FILE, CONFIG_FILE, SUMMARY_FILE, read_json, write_json
+from acl_env.training.runs import ARGS_FILE, CONFIG_FILE, SUMMARY_FILE
 from acl_env.training.timing import Timed
 
 if TYPE_CHECKING:  # SB3 is imported when a segment runs

@@ -32,7 +32,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from acl_env.io import GuardedOutput, console_script, guarded_output
+from acl_env.io import GuardedOutput, console_script, guarded_output, write_json
 from acl_env.training.arguments import make_parser
 from acl_env.training.checks import ConfigError
 from acl_env.training.model_setup import build_model, close_envs, timed_ppo
@@ -44,7 +44,6 @@ from acl_env.training.runs import (
     VECNORMALIZE_FILE,
     checkpoint_paths,
     save_model,
-    write_json,
 )
 from acl_env.training.segments import (
     Learned,

@@ -55,6 +55,7 @@ REALS: dict[str, tuple[list[float], bool]] = {
     "residual_scale": ([0.0, -0.1, 3.2, 1e300], True),
     "pole_radius": ([0.0, 0.009, 0.51, -1.0, 1e300], False),
     "friction": ([0.0, -1.0, 5.01, 1e300], False),
+    "friction_step": ([0.0, -0.5, 5.01, 1e300], True),
     "kp": ([0.0, -20.0, 200.5, 1e308], False),
     "squeeze": ([-0.051, 0.051, 1e300], True),
     "squeeze_slope": ([-0.1, 1.01, 1e300], False),

@@ -92,6 +92,14 @@ RECORDS: dict[str, Record] = {
         " spring_stiffness:12 --json docs/eval_friction_step_soft.json"
         " --plot docs/eval_friction_step_soft.png",
     ),
+    # The SEA recipe over its five training seeds (seed 0 is the shipped policy), from the
+    # stored numpy exports: no training (experiments/training_seeds/README.md).
+    "eval_sea_seeds": Record(
+        ("experiments/training_seeds/eval_sea_seeds.json",),
+        "acl-evaluate --policy acl_climb_sea_ppo"
+        + "".join(f" experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5))
+        + " --json experiments/training_seeds/eval_sea_seeds.json",
+    ),
     "policy_behaviour": Record(
         ("docs/policy_behaviour.json", "docs/policy_behaviour.png"),
         f"python benchmarks/policy_behaviour.py --policy {COMPLIANT_POLICY} --episodes 20"

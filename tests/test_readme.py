@@ -185,3 +185,24 @@ def test_readme_benchmark_sentence_is_the_record() -> None:
     assert f"the paper's untuned gait in {rate('open_loop_acl')}" in text
     assert f"the rolling helix in {rate('open_loop_rolling_helix')}" in text
     assert f"{len(record['cells'])}-cell grid" in text
+
+
+def test_readme_seeds_sentence_is_the_record() -> None:
+    """The SEA recipe over its five training seeds (interquartile mean, bootstrap interval over
+    seeds, probability of improvement), as the README states it."""
+    from acl_env.io import read_json
+
+    record = read_json(ROOT / "experiments" / "training_seeds" / "eval_sea_seeds.json")
+    over = record["over_seeds"]
+    climb, slip, energy = (
+        over[m] for m in ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m")
+    )
+    assert len(climb["per_seed"]) == 5
+    text = " ".join((ROOT / "README.md").read_text().split())
+    low, high = (100 * v for v in climb["ci95"])
+    assert f"climb {100 * climb['iqm']:.2f} cm per gait cycle ({low:.2f}-{high:.2f})" in text
+    assert f"slip {slip['iqm']:.3f} per metre ({slip['ci95'][0]:.3f}-{slip['ci95'][1]:.3f})" in text
+    assert f"{energy['iqm']:.0f} J/m ({energy['ci95'][0]:.0f}-{energy['ci95'][1]:.0f})" in text
+    for metric, name in ((climb, "climb"), (slip, "slip")):
+        poi = metric["probability_of_improvement"]
+        assert f"{name} {poi['mean']:.2f}" in text, name

@@ -95,10 +95,10 @@ RECORDS: dict[str, Record] = {
     # The SEA recipe over its five training seeds (seed 0 is the shipped policy), from the
     # stored numpy exports: no training (experiments/training_seeds/README.md).
     "eval_sea_seeds": Record(
-        ("experiments/training_seeds/eval_sea_seeds.json",),
+        ("docs/eval_sea_seeds.json",),
         "acl-evaluate --policy acl_climb_sea_ppo"
         + "".join(f" experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5))
-        + " --json experiments/training_seeds/eval_sea_seeds.json",
+        + " --json docs/eval_sea_seeds.json",
     ),
     "policy_behaviour": Record(
         ("docs/policy_behaviour.json", "docs/policy_behaviour.png"),

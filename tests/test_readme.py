@@ -192,7 +192,7 @@ def test_readme_seeds_sentence_is_the_record() -> None:
     seeds, probability of improvement), as the README states it."""
     from acl_env.io import read_json
 
-    record = read_json(ROOT / "experiments" / "training_seeds" / "eval_sea_seeds.json")
+    record = read_json(ROOT / "docs" / "eval_sea_seeds.json")
     over = record["over_seeds"]
     climb, slip, energy = (
         over[m] for m in ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m")

@@ -109,3 +109,19 @@ def test_readme_python_example_runs_from_the_clones_root(
         )
         assert shown.returncode == 0, shown.stderr[-3000:]
         assert shown.stdout.startswith(f"usage: {usage}")
+
+
+def test_the_wheel_lists_every_subpackage() -> None:
+    """Every package of ``acl_env/`` is in pyproject's ``packages`` (a missing one installs
+    without it: the wheel tests above would only see that when run)."""
+    import tomllib
+
+    root = Path(__file__).resolve().parents[1]
+    listed = set(
+        tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
+    )
+    found = {
+        ".".join(init.parent.relative_to(root).parts)
+        for init in (root / "acl_env").rglob("__init__.py")
+    }
+    assert found <= listed, sorted(found - listed)

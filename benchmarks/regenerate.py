@@ -79,19 +79,6 @@ RECORDS: dict[str, Record] = {
         f"acl-evaluate --policy {COMPLIANT_POLICY} --json docs/eval_compliant.json"
         " --plot docs/eval_compliant.png --markdown",
     ),
-    # The pole turning slippery at a random step (friction 1.0 -> 0.5), on the nominal spring
-    # and on a 0.6x spring: docs/benchmark.md#a-pole-that-turns-slippery.
-    "friction_step": Record(
-        ("docs/eval_friction_step.json", "docs/eval_friction_step.png"),
-        f"acl-evaluate --policy {COMPLIANT_POLICY} --episodes 10 --env-kwargs friction_step:0.5"
-        " --json docs/eval_friction_step.json --plot docs/eval_friction_step.png",
-    ),
-    "friction_step_soft": Record(
-        ("docs/eval_friction_step_soft.json", "docs/eval_friction_step_soft.png"),
-        f"acl-evaluate --policy {COMPLIANT_POLICY} --episodes 10 --env-kwargs friction_step:0.5"
-        " spring_stiffness:12 --json docs/eval_friction_step_soft.json"
-        " --plot docs/eval_friction_step_soft.png",
-    ),
     # The SEA recipe over its five training seeds (seed 0 is the shipped policy), from the
     # stored numpy exports: no training (experiments/training_seeds/README.md).
     "eval_sea_seeds": Record(

@@ -161,6 +161,50 @@ def add_trust_pickles(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--trust-pickles", action="store_true", help=TRUST_PICKLES_HELP)
 
 
+def add_episodes(parser: argparse.ArgumentParser, default: int, help: str) -> None:
+    """``--episodes``: a count >= 1."""
+    parser.add_argument("--episodes", type=int_at_least(1, MAX_COUNT), default=default, help=help)
+
+
+def add_seed(parser: argparse.ArgumentParser, default: int | None, help: str) -> None:
+    """``--seed``: 0 to :data:`MAX_SEED` (``None``: the command's own default applies)."""
+    parser.add_argument("--seed", type=int_at_least(0, MAX_SEED), default=default, help=help)
+
+
+def add_workers(parser: argparse.ArgumentParser, default: int | None, help: str) -> None:
+    """``--workers``: processes, 1 to :data:`MAX_PROCESSES`."""
+    parser.add_argument(
+        "--workers", type=int_at_least(1, MAX_PROCESSES), default=default, help=help
+    )
+
+
+def add_key_values(
+    parser: argparse.ArgumentParser, option: str, help: str, repeat: bool = False
+) -> None:
+    """``option KEY:VALUE ...``: :func:`key_value` pairs (read them with :func:`pairs_to_dict`);
+    ``repeat``: the option may be given again, its pairs appended."""
+    parser.add_argument(
+        option,
+        type=key_value,
+        nargs="*",
+        action="extend" if repeat else "store",
+        default=None if repeat else [],
+        metavar="KEY:VALUE",
+        help=help,
+    )
+
+
+def add_gym_packages(parser: argparse.ArgumentParser) -> None:
+    """``--gym-packages``: modules imported (so registering their envs) while parsing."""
+    parser.add_argument(
+        "--gym-packages",
+        type=importable_module,
+        nargs="*",
+        default=[],
+        help="modules registering envs",
+    )
+
+
 def importable_module(text: str) -> str:
     """An argparse type: a module that imports (and so registers its envs), imported now."""
     try:

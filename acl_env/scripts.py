@@ -72,13 +72,11 @@ def parent_parser(
             help=plot if isinstance(plot, str) else "draw the figure here",
         )
     if seed is not None:
-        parser.add_argument("--seed", type=cli.int_at_least(0), default=seed, help="first seed")
+        cli.add_seed(parser, seed, "first seed")
     if episodes is not None:
-        parser.add_argument("--episodes", type=cli.int_at_least(1), default=episodes)
+        cli.add_episodes(parser, episodes, f"episodes (default {episodes})")
     if workers is not None:
-        parser.add_argument(
-            "--workers", type=cli.int_at_least(1), default=workers, help="processes"
-        )
+        cli.add_workers(parser, workers, "processes")
     if env_kwargs:
         help_ = env_kwargs if isinstance(env_kwargs, str) else "env arguments of every episode"
         parser.add_argument(
@@ -175,6 +173,14 @@ def write_outputs(
     if plot is not None and getattr(args, "plot", None) is not None:
         Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
         plot(document, Path(args.plot))
+
+
+def print_figures(document: dict[str, Any], fmt: str = ".3f", width: int = 34) -> None:
+    """Print a record's top-level float figures, one ``name value`` line each."""
+    print(f"{'measure':{width}s} value")
+    for key, value in document.items():
+        if isinstance(value, float):
+            print(f"{key:{width}s} {value:10{fmt}}")
 
 
 def timed_steps(

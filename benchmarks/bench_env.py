@@ -33,7 +33,14 @@ from tqdm import tqdm
 from acl_env import ACL_CLIMB_BENCHMARK_ID, ACL_CLIMB_ID, ACL_CLIMB_SEA_ID
 from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.contacts import SLIP_SAMPLES
-from acl_env.scripts import make_parser, save_figure, timed_steps, use_agg, write_outputs
+from acl_env.scripts import (
+    make_parser,
+    print_figures,
+    save_figure,
+    timed_steps,
+    use_agg,
+    write_outputs,
+)
 
 V0_TIMESTEP = 0.002  # s: the physics step of the v0 ids
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -190,10 +197,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     if not args.skip_vector:
         figures |= vector_scaling(args.steps, args.rounds)
     figures["real_time_factor"] = 0.1 * figures["steps_per_s_default"]
-    print(f"{'measure':34s} value")
-    for key, value in figures.items():
-        if isinstance(value, float):
-            print(f"{key:34s} {value:10.3f}")
+    print_figures(figures)
     write_outputs(args, figures, plot)
     return figures
 

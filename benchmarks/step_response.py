@@ -29,7 +29,7 @@ import numpy as np
 from acl_env.actuators import sea as actuators
 from acl_env.actuators.sea_rotor import MOTOR_KP, ROTOR_INERTIA
 from acl_env.constants import JOINT_LIMIT, PEAK_TORQUE, PHYSICS_TIMESTEP
-from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
+from acl_env.scripts import make_parser, print_figures, save_figure, use_agg, write_outputs
 
 LOAD_MASS = 3 * 0.205  # kg: three modules
 LOAD_LENGTH = 3 * 0.0639  # m
@@ -159,9 +159,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     args = parser.parse_args(argv)
     runs = {name: respond(name, args.step, args.duration) for name in CANDIDATES}
     document = {"step": args.step, "rotor_inertia": ROTOR_INERTIA, **compare(runs), "runs": runs}
-    for key, value in document.items():
-        if isinstance(value, float):
-            print(f"{key:36s} {value:.4f}")
+    print_figures(document, ".4f", 36)
     write_outputs(args, document, plot)
     return document
 

@@ -48,18 +48,10 @@ def make_parser() -> cli.ArgumentParser:
         help="shipped policies or exported policy folders of one task, e.g. the training seeds "
         f"of one recipe (default {shipped.DEFAULT_POLICY})",
     )
-    parser.add_argument(
-        "--episodes",
-        type=cli.int_at_least(1, cli.MAX_COUNT),
-        default=DEFAULT_EPISODES,
-        help=f"episodes per cell and controller (default {DEFAULT_EPISODES})",
+    cli.add_episodes(
+        parser, DEFAULT_EPISODES, f"episodes per cell and controller (default {DEFAULT_EPISODES})"
     )
-    parser.add_argument(
-        "--seed",
-        type=cli.int_at_least(0, cli.MAX_SEED),
-        default=0,
-        help="episode i resets with seed + i in every cell",
-    )
+    cli.add_seed(parser, 0, "episode i resets with seed + i in every cell")
     parser.add_argument(
         "--json",
         type=cli.output_file(".json"),
@@ -72,12 +64,7 @@ def make_parser() -> cli.ArgumentParser:
         help="figures: FILE's stem + _<score> for each score's heat maps, + _profiles for the "
         "performance profiles",
     )
-    parser.add_argument(
-        "--workers",
-        type=cli.int_at_least(1, cli.MAX_PROCESSES),
-        default=2,
-        help="processes running episodes (default 2)",
-    )
+    cli.add_workers(parser, 2, "processes running episodes (default 2)")
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
 

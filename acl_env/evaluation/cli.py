@@ -77,25 +77,10 @@ def make_parser() -> cli.ArgumentParser:
     )
     which.add_argument("--no-policy", action="store_true", help="open-loop controllers only")
     cli.add_trust_pickles(parser)
-    parser.add_argument(
-        "--episodes",
-        type=cli.int_at_least(1, cli.MAX_COUNT),
-        default=20,
-        help="episodes, >= 1 (default 20)",
-    )
-    parser.add_argument(
-        "--seed",
-        type=cli.int_at_least(0, cli.MAX_SEED),
-        default=0,
-        help=f"episode i resets with seed + i (0 to {cli.MAX_SEED})",
-    )
-    parser.add_argument(
-        "--env-kwargs",
-        type=cli.key_value,
-        nargs="*",
-        default=[],
-        metavar="KEY:VALUE",
-        help="env overrides (numbers finite; ranges: docs/evaluation.md)",
+    cli.add_episodes(parser, 20, "episodes, >= 1 (default 20)")
+    cli.add_seed(parser, 0, f"episode i resets with seed + i (0 to {cli.MAX_SEED})")
+    cli.add_key_values(
+        parser, "--env-kwargs", "env overrides (numbers finite; ranges: docs/evaluation.md)"
     )
     parser.add_argument(
         "--reward-weights",
@@ -143,19 +128,8 @@ def make_parser() -> cli.ArgumentParser:
         default=1.0,
         help="video speed, times real time (default 1)",
     )
-    parser.add_argument(
-        "--workers",
-        type=cli.int_at_least(1, cli.MAX_PROCESSES),
-        default=2,
-        help="processes running episodes",
-    )
-    parser.add_argument(
-        "--gym-packages",
-        type=cli.importable_module,
-        nargs="*",
-        default=[],
-        help="modules registering envs",
-    )
+    cli.add_workers(parser, 2, "processes running episodes")
+    cli.add_gym_packages(parser)
     parser.add_argument(
         "--markdown", action="store_true", help="print the table in Markdown (for the README)"
     )

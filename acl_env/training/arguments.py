@@ -38,11 +38,7 @@ def make_parser() -> cli.ArgumentParser:
         help="zoo-format YAML, possibly a delta over the shipped recipe (default: the shipped "
         "recipe, acl_env/data/ppo.yml)",
     )
-    parser.add_argument(
-        "--seed",
-        type=cli.int_at_least(0, cli.MAX_SEED),
-        help=f"run seed (default {DEFAULT_SETTINGS['seed']})",
-    )
+    cli.add_seed(parser, None, f"run seed (default {DEFAULT_SETTINGS['seed']})")
     parser.add_argument(
         "--n-timesteps",
         type=cli.int_at_least(1, cli.MAX_COUNT),
@@ -69,26 +65,13 @@ def make_parser() -> cli.ArgumentParser:
     )
     cli.add_trust_pickles(parser)
     for option, what in (("--hyperparams", "PPO / zoo"), ("--env-kwargs", "env")):
-        parser.add_argument(
-            option,
-            nargs="*",
-            action="extend",
-            type=cli.key_value,
-            metavar="KEY:VALUE",
-            help=f"{what} overrides (may repeat; numbers finite)",
-        )
+        cli.add_key_values(parser, option, f"{what} overrides (may repeat; numbers finite)", True)
     parser.add_argument(
         "--checkpoint-freq",
         type=cli.int_at_least(1, cli.MAX_COUNT),
         help=f"env steps between checkpoints (default {DEFAULT_SETTINGS['checkpoint_freq']})",
     )
-    parser.add_argument(
-        "--gym-packages",
-        nargs="*",
-        default=[],
-        type=cli.importable_module,
-        help="modules registering envs",
-    )
+    cli.add_gym_packages(parser)
     parser.add_argument("--device", help="torch device (default cpu: MLP policies)")
     parser.add_argument(
         "--torch-threads",
@@ -102,10 +85,8 @@ def make_parser() -> cli.ArgumentParser:
         help="env workers: subprocesses (--workers of them), all in the trainer, or in the "
         "trainer on --workers threads (default subproc)",
     )
-    parser.add_argument(
-        "--workers",
-        type=cli.int_at_least(1, cli.MAX_PROCESSES),
-        help="subprocesses sharing the envs (default: one per CPU core, at most n_envs)",
+    cli.add_workers(
+        parser, None, "subprocesses sharing the envs (default: one per CPU core, at most n_envs)"
     )
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser

@@ -12,12 +12,14 @@ of ``--worlds`` worlds with a zero action, and reported as the median over ``--r
 * ``threads_2``: the same on two threads.
 
 Reported: world steps per second of each, the vector env's cost per world step over the raw
-physics' (1 thread), and the speed-up of 2 threads over 1. Meaningful on an idle machine only:
-anything else running takes the second core.
+physics' (1 thread), the speed-up of 2 threads over 1, and Amdahl's law fitted to it: the serial
+fraction and the throughput it predicts on 8, 16 and 64 cores (:func:`amdahl`; a prediction).
+Meaningful on an idle machine only: anything else running takes the second core.
 """
 
 from __future__ import annotations
 
+import math
 import statistics
 import time
 from typing import Any
@@ -76,6 +78,26 @@ def measure(env_id: str, worlds: int, steps: int, rounds: int) -> dict[str, Any]
         "samples": samples,
         "cost_over_raw_1_thread": rate["raw"] / rate["threads_1"],
         "speedup_2_threads": rate["threads_2"] / rate["threads_1"],
+        **amdahl(rate["threads_1"], rate["threads_2"] / rate["threads_1"]),
+    }
+
+
+PREDICTED_CORES = (8, 16, 64)
+
+
+def amdahl(one_thread: float, speedup_2: float) -> dict[str, Any]:
+    """Amdahl's law fitted to the speed-up of 2 threads over 1: the serial fraction
+    ``s = 2 / speedup_2 - 1`` (the share of a world step that does not run in parallel: here the
+    worlds' Python, which holds the GIL), and from it the throughput predicted on more cores,
+    ``one_thread / (s + (1 - s) / n)``. A prediction from two points on a 2-vCPU machine, not a
+    measurement: memory bandwidth and the cores' sharing of caches are outside the model."""
+    serial = min(max(2.0 / speedup_2 - 1.0, 0.0), 1.0)
+    return {
+        "serial_fraction": serial,
+        "predicted_world_steps_per_s": {
+            str(n): one_thread / (serial + (1.0 - serial) / n) for n in PREDICTED_CORES
+        },
+        "predicted_ceiling_world_steps_per_s": one_thread / serial if serial > 0 else math.inf,
     }
 
 
@@ -94,6 +116,13 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         f"vector env {rate['threads_1']:.0f} (1 thread, {result['cost_over_raw_1_thread']:.2f}x "
         f"the raw cost), {rate['threads_2']:.0f} (2 threads, "
         f"{result['speedup_2_threads']:.2f}x 1 thread)"
+    )
+    predicted = ", ".join(
+        f"{n} cores {v:.0f}" for n, v in result["predicted_world_steps_per_s"].items()
+    )
+    print(
+        f"Amdahl fit: serial fraction {result['serial_fraction']:.2f}; predicted world steps/s: "
+        f"{predicted}; ceiling {result['predicted_ceiling_world_steps_per_s']:.0f}"
     )
     return result
 

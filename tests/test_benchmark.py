@@ -14,7 +14,7 @@ import acl_env
 from acl_env import shipped
 from acl_env.benchmark import grid as grids
 from acl_env.benchmark import run as bench
-from acl_env.benchmark.summary import summarize_benchmark
+from acl_env.benchmark.summary import limits, summarize_benchmark
 from acl_env.evaluation import baselines, run_episode
 from acl_env.evaluation import statistics as stats
 
@@ -126,6 +126,41 @@ def test_policies_of_one_folder_name_are_refused(two_policies: list[Path]) -> No
     compliant = shipped.policy_dir("acl_climb_compliant_ppo")
     with pytest.raises(PolicySetError, match="another task"):
         policies_controllers([two_policies[0], compliant], {})
+
+
+def _cell(held_out: bool, **falls: int) -> dict:
+    """A record cell of 10 episodes per controller, ``falls`` of each falling (success: the
+    others)."""
+    return {
+        "held_out": held_out,
+        "controllers": {
+            name: {"episodes": 10, "falls": n, "success_rate": (10 - n) / 10}
+            for name, n in falls.items()
+        },
+    }
+
+
+def test_limits_cell_by_cell() -> None:
+    """Issue 48's measures, counted on a record made by hand."""
+    record = {
+        "cells": {
+            # the policy falls once where an analytic controller never does
+            "a": _cell(False, **{"policy:p": 1, "open_loop_acl": 0, "open_loop_tuned": 3}),
+            # held out, an analytic controller reliable (0 falls), the policy too
+            "b": _cell(True, **{"policy:p": 0, "open_loop_acl": 0, "open_loop_tuned": 10}),
+            # held out, reliable analytic, the policy not (2 falls): also falls more
+            "c": _cell(True, **{"policy:p": 2, "open_loop_acl": 10, "open_loop_tuned": 0}),
+            # every analytic controller falls in most episodes; the policy holds in half
+            "d": _cell(True, **{"policy:p": 5, "open_loop_acl": 6, "open_loop_tuned": 9}),
+            # the same, the policy falls in 6
+            "e": _cell(False, **{"policy:p": 6, "open_loop_acl": 6, "open_loop_tuned": 10}),
+        }
+    }
+    found = limits(record)["policy:p"]
+    assert found["cells_falling_more_than_best_analytic"] == ["a", "c"]
+    assert found["held_out_reliable_cells"] == 2 and found["held_out_reliable_cells_held"] == 1
+    assert found["cells_every_analytic_loses"] == ["d", "e"]
+    assert found["cells_every_analytic_loses_held"] == ["d"]
 
 
 def test_summary_over_seeds(record: dict) -> None:

@@ -23,7 +23,7 @@ from acl_env import cli, current_id, shipped
 from acl_env.benchmark.figures import TITLES, plot_heat_maps, plot_profiles
 from acl_env.benchmark.grid import grid_for
 from acl_env.benchmark.run import SettingsMismatch, run_benchmark
-from acl_env.benchmark.summary import summarize_benchmark
+from acl_env.benchmark.summary import limits, summarize_benchmark
 from acl_env.evaluation.baselines import read_policy
 from acl_env.evaluation.cli import policy_folder
 from acl_env.evaluation.runner import PolicySetError, make_pool
@@ -111,7 +111,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         if pool is not None:
             pool.shutdown()
     summary = summarize_benchmark(record)
-    record["summary"] = {"all": summary, "held_out": summarize_benchmark(record, True)}
+    record["summary"] = {
+        "all": summary,
+        "held_out": summarize_benchmark(record, True),
+        "limits": limits(record),
+    }
     write_json(args.json, record)
     if args.plots:
         labels = record.get("labels", {})
@@ -125,6 +129,16 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     if 1 < len(args.policy) < MIN_SEEDS:
         print(f"fewer than {MIN_SEEDS} seeds: the intervals over seeds are too narrow to trust")
     print(json.dumps(jsonable(record["summary"]["all"]["scores"]), indent=1))
+    for policy, where in record["summary"]["limits"].items():
+        print(
+            f"{policy}: falls more often than the best analytic controller in "
+            f"{len(where['cells_falling_more_than_best_analytic'])} of {len(cells)} cells; "
+            f"succeeds reliably in {where['held_out_reliable_cells_held']} of the "
+            f"{where['held_out_reliable_cells']} held-out cells where an analytic controller does; "
+            f"holds on in {len(where['cells_every_analytic_loses_held'])} of the "
+            f"{len(where['cells_every_analytic_loses'])} cells where every analytic controller "
+            "falls in most episodes"
+        )
     return record
 
 

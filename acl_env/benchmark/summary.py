@@ -76,3 +76,43 @@ def summarize_benchmark(record: dict[str, Any], held_out_only: bool = False) -> 
             }
         out["scores"][score] = entry
     return out
+
+
+# A cell is held in "most episodes" below this share of falls, and "reliably" at this success.
+MOSTLY = 0.5
+RELIABLE = 0.95
+
+
+def limits(record: dict[str, Any]) -> dict[str, Any]:
+    """Where each policy's limits lie against the analytic controllers, cell by cell (every
+    controller on the same seeds): the cells where it falls more often than the analytic
+    controller that falls least; over the held-out cells where some analytic controller
+    succeeds reliably (:data:`RELIABLE`), those where the policy does too; and over the cells
+    where every analytic controller falls in most episodes, those where the policy succeeds in
+    at least half (:data:`MOSTLY`)."""
+    policies, analytic = controllers_of(record)
+    out: dict[str, Any] = {}
+    for policy in policies:
+        falls_more, reliable, reliable_held, hard, hard_held = [], [], [], [], []
+        for key, cell in record["cells"].items():
+            results = cell["controllers"]
+            mine = results[policy]
+            if mine["falls"] > min(results[name]["falls"] for name in analytic):
+                falls_more.append(key)
+            best = max(results[name]["success_rate"] for name in analytic)
+            if cell["held_out"] and best >= RELIABLE:
+                reliable.append(key)
+                if mine["success_rate"] >= RELIABLE:
+                    reliable_held.append(key)
+            if all(results[n]["falls"] > MOSTLY * results[n]["episodes"] for n in analytic):
+                hard.append(key)
+                if mine["success_rate"] >= MOSTLY:
+                    hard_held.append(key)
+        out[policy] = {
+            "cells_falling_more_than_best_analytic": falls_more,
+            "held_out_reliable_cells": len(reliable),
+            "held_out_reliable_cells_held": len(reliable_held),
+            "cells_every_analytic_loses": hard,
+            "cells_every_analytic_loses_held": hard_held,
+        }
+    return out

@@ -55,7 +55,9 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
         parser.error(str(exc))
     study = _tune(args, settings, study_name)
     try:
-        chosen, validation = validate(study, settings, args.validate_top, args.validate_seeds)
+        chosen, validation = validate(
+            study, settings, args.validate_top, args.validate_seeds, not args.no_progress_bar
+        )
     except RuntimeError as exc:
         print(f"acl-tune-gait: {exc}; nothing written", file=sys.stderr)
         raise SystemExit(1) from None

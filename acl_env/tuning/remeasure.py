@@ -28,10 +28,15 @@ def validation_seeds(settings: TuneSettings, n_seeds: int) -> list[int]:
 
 
 def validate(
-    study: optuna.Study, settings: TuneSettings, top_k: int, n_seeds: int
+    study: optuna.Study,
+    settings: TuneSettings,
+    top_k: int,
+    n_seeds: int,
+    progress: bool = True,
 ) -> tuple[optuna.trial.FrozenTrial, dict[int, dict[str, Any]]]:
     """Re-measure the ``top_k`` best trials (and the default gait) on ``n_seeds`` new seeds and
-    pick the best on those seeds among the ones that neither fell nor rolled there.
+    pick the best on those seeds among the ones that neither fell nor rolled there (a progress
+    bar unless ``progress`` is False).
 
     With a few seeds per trial the study's best is partly luck (and may sit next to a cliff); the
     pick is the gait that holds up on episodes the search never saw. Results are cached in the
@@ -51,7 +56,8 @@ def validate(
     candidates = ranked[:top_k]
     default = [t for t in complete if t.user_attrs.get("default_gait") and t not in candidates]
     results: dict[int, dict[str, Any]] = {}
-    for trial in tqdm([*candidates, *default], desc="validation", unit="gait", leave=False):
+    measured = [*candidates, *default]
+    for trial in tqdm(measured, desc="validation", unit="gait", leave=False, disable=not progress):
         key = f"validation_{trial.number}"
         stored = study.user_attrs.get(key)
         if stored is None or stored["seeds"] != seeds:

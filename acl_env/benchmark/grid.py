@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from acl_env import (
@@ -21,6 +21,7 @@ from acl_env import (
     ACL_CLIMB_NOROLL_BENCHMARK_ID,
     ACL_CLIMB_NOROLL_COMPLIANT_ID,
     ACL_CLIMB_NOROLL_SEA_ID,
+    ACL_CLIMB_ROBUST_ID,
     ACL_CLIMB_SEA_ID,
     current_id,
 )
@@ -117,6 +118,16 @@ SPRING = Axis(
 )
 LATENCY = Axis("control_latency", (0.0, 0.01, 0.1, LATENCY_RANGE[1]), 0.01, (0.0, 0.05), "s")
 SEA_GRID = Grid((POLE, FRICTION, SPRING, LATENCY))
+# The robust task's recipe trains over the grid but its thickest pole: every other cell is a
+# training cell there.
+ROBUST_SEA_GRID = Grid(
+    (
+        replace(POLE, training=(0.055, 0.1)),
+        replace(FRICTION, training=(0.4, 1.2)),
+        replace(SPRING, training=(12.0, 28.0)),
+        replace(LATENCY, training=(0.0, 0.2)),
+    )
+)
 # The ideal servo has no latency option: its stiffness takes six values instead.
 KP = Axis("kp", (10.0, 12.0, 15.0, DEFAULT_KP, 25.0, 30.0), DEFAULT_KP, (15.0, 30.0), "N m/rad")
 SERVO_GRID = Grid((POLE, FRICTION, KP))
@@ -126,6 +137,7 @@ GRIDS: dict[str, Grid] = {
     ACL_CLIMB_COMPLIANT_ID: SEA_GRID,
     ACL_CLIMB_NOROLL_SEA_ID: SEA_GRID,
     ACL_CLIMB_NOROLL_COMPLIANT_ID: SEA_GRID,
+    ACL_CLIMB_ROBUST_ID: ROBUST_SEA_GRID,
     ACL_CLIMB_BENCHMARK_ID: SERVO_GRID,
     ACL_CLIMB_NOROLL_BENCHMARK_ID: SERVO_GRID,
 }

@@ -1,0 +1,103 @@
+"""The paper's gait, the nominal tuned gait and the robust one, open loop on the SEA, under the
+conditions where the tuned gait lost the pole, on the same seeds.
+
+``python experiments/robust_tuning/compare_gaits.py [--episodes 8] [--workers 2] [--json PATH]``
+
+Each condition is a set of env keyword arguments over ``ACLClimb-v3``'s defaults. The three
+controllers are the evaluation's own (``acl_env.evaluation.baselines.build_controllers`` for the
+SEA task): ``open_loop_acl`` (the paper's gait) and ``open_loop_tuned`` played with the entries
+``acl_sea`` and ``acl_sea_robust`` of the shipped tuned gaits.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+from typing import Any
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import numpy as np
+
+from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
+from acl_env.evaluation.runner import make_pool, run_controllers
+from acl_env.scripts import make_parser, seeds, write_output
+from acl_env.shipped import policy_dir
+from acl_env.training.policy import read_policy_folder
+
+# The conditions of issue 48's table, the nominal pole, and the grid's thinnest and thickest.
+CONDITIONS: dict[str, dict[str, float]] = {
+    "nominal": {},
+    "friction 0.5, spring 12": {"friction": 0.5, "spring_stiffness": 12.0},
+    "friction 0.5, spring 12, pole 0.08, latency 0.2": {
+        "friction": 0.5,
+        "spring_stiffness": 12.0,
+        "pole_radius": 0.08,
+        "control_latency": 0.2,
+    },
+    "friction 0.5, pole 0.08": {"friction": 0.5, "pole_radius": 0.08},
+    "friction 0.5, latency 0.2": {"friction": 0.5, "control_latency": 0.2},
+    "pole 0.055": {"pole_radius": 0.055},
+    "pole 0.12": {"pole_radius": 0.12},
+}
+GAITS = {"open_loop_acl": "paper's gait", "acl_sea": "tuned (nominal)", "acl_sea_robust": "robust"}
+
+
+def controllers_for(condition: dict[str, float]) -> list[Any]:
+    """The three controllers under ``condition``, named by :data:`GAITS`' keys."""
+    folder = read_policy_folder(policy_dir("acl_climb_sea_ppo"))
+    chosen = []
+    for key in ("acl_sea", "acl_sea_robust"):
+        built, _ = build_controllers(folder, dict(condition), None, DEFAULT_TUNED_GAITS, key)
+        by_name = {c.name: c for c in built}
+        if key == "acl_sea":
+            chosen.append(by_name["open_loop_acl"])
+        chosen.append(replace(by_name["open_loop_tuned"], name=key))
+    return chosen
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = make_parser(__doc__, plot=False, seed=0, episodes=8, workers=2, progress=True)
+    args = parser.parse_args(argv)
+    played = seeds(args)
+    pool = make_pool(args.workers)
+    document: dict[str, Any] = {"seeds": played, "conditions": {}}
+    try:
+        for label, condition in CONDITIONS.items():
+            results = run_controllers(
+                controllers_for(condition), played, pool, progress=not args.no_progress_bar
+            )
+            row = {}
+            for name, episodes in results.items():
+                climbs = [e.metrics()["climb_per_gait_cycle_m"] for e in episodes]
+                held = [c for c, e in zip(climbs, episodes, strict=True) if not e.fell]
+                row[name] = {
+                    "falls": sum(e.fell for e in episodes),
+                    "climb_per_gait_cycle_m": float(np.mean(held)) if held else None,
+                    "slip_per_m": float(
+                        np.mean([e.metrics()["slip_per_m"] for e in episodes if not e.fell])
+                    )
+                    if held
+                    else None,
+                }
+            document["conditions"][label] = {"env_kwargs": condition, "controllers": row}
+            cells = [
+                f"{GAITS[n]}: "
+                + (
+                    f"{100 * r['climb_per_gait_cycle_m']:.1f} cm"
+                    if r["climb_per_gait_cycle_m"] is not None
+                    else "-"
+                )
+                + f", falls {r['falls']}/{len(played)}"
+                for n, r in row.items()
+            ]
+            print(f"{label:50s} " + "; ".join(cells), flush=True)
+    finally:
+        if pool is not None:
+            pool.shutdown()
+    write_output(args.json, document)
+    return document
+
+
+if __name__ == "__main__":
+    main()

@@ -8,6 +8,7 @@ import pickle
 
 import gymnasium as gym
 import numpy as np
+import optuna
 import pytest
 
 from acl_env import (
@@ -201,6 +202,29 @@ def test_evaluation_meets_compliant_acl_and_open_loops_without_the_grip(tmp_path
         assert env.config.actuator.model.name == "sea"
     tuned = by_name["open_loop_tuned"].env_kwargs
     assert {k: v for k, v in by_name[COMPLIANT].env_kwargs.items() if k not in GRIP_KWARGS} == tuned
+
+
+def test_a_grip_study_does_not_disqualify_its_fixed_gaits_clipping(tmp_path) -> None:
+    """On the 0.055 m pole acl_sea's table clips 9.6 % of its entries: above --max-clipped 0.05 a
+    gait study prunes it, while a grip study, whose gait is the same in every trial, scores it."""
+    from acl_env.tuning.arguments import make_parser
+    from acl_env.tuning.objective import make_objective
+    from acl_env.tuning.settings import settings_from_args
+
+    argv = ["--env", ACL_CLIMB_SEA_ID, "--steps-per-cycle", "40", "--cycles", "1", "--seeds", "0"]
+    argv += ["--condition", "pole_radius:0.055", "--max-clipped", "0.05"]
+    for grip, expected in ((False, optuna.trial.TrialState.PRUNED), (True, None)):
+        settings = settings_from_args(make_parser().parse_args([*argv, *(["--grip"] * grip)]))
+        study = optuna.create_study(direction="maximize")
+        study.enqueue_trial(settings.default_params)
+        study.optimize(make_objective(settings), n_trials=1)
+        trial = study.trials[0]
+        assert trial.user_attrs["clipped_fraction"] > 0.05
+        if expected is not None:
+            assert trial.state == expected and trial.user_attrs["disqualified"] == "saturated"
+        else:
+            assert trial.state == optuna.trial.TrialState.COMPLETE
+            assert "disqualified" not in trial.user_attrs
 
 
 def test_tuner_grip_mode_searches_the_grip_on_the_ids_gait(tmp_path) -> None:

@@ -4,8 +4,9 @@ Each trial builds the env with a candidate squeeze and ``gait_kwargs``, plays it
 action: one keyframe per step, the gait's own cadence) on a few seeds in each condition, and
 scores it by one evaluation metric (mean over the episodes). A gait that falls (or ends by
 ``roll_limit``) on any seed, whose keyframe table the +-90 deg joint limit clips in more than
-``max_clipped`` of its (keyframe, joint) entries, or (with ``max_touched_arc_deg``) that touches
-the pole over more than that arc of some module's circumference, is disqualified: the trial is
+``max_clipped`` of its (keyframe, joint) entries (not in a grip study, whose gait is fixed), or
+(with ``max_touched_arc_deg``) that touches the pole over more than that arc of some module's
+circumference, is disqualified: the trial is
 pruned, its reason in the user attribute ``disqualified``. Every trial stores its metrics
 (:mod:`acl_env.evaluation`, mean over its episodes) as user attributes.
 """
@@ -229,7 +230,9 @@ def make_objective(settings: TuneSettings, heartbeat: int = 0) -> Callable[[optu
             )
             trial.set_user_attr("clipped_fraction", saturation.sample_fraction)
             trial.set_user_attr("clipped_max_rad", saturation.max_excess)
-            if saturation.sample_fraction > settings.max_clipped:
+            # With --grip the gait is held fixed, the same in every trial: its clipping is no
+            # reason to prefer one grip over another.
+            if not settings.grip and saturation.sample_fraction > settings.max_clipped:
                 trial.set_user_attr("disqualified", "saturated")
                 raise optuna.TrialPruned(f"joint limit clips {saturation.sample_fraction:.0%}")
             if settings.cvar is not None:

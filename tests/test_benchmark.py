@@ -11,7 +11,7 @@ import pytest
 from scipy import stats as scipy_stats
 
 import acl_env
-from acl_env import shipped
+from acl_env import ACL_CLIMB_ROBUST_ID, shipped
 from acl_env.benchmark import grid as grids
 from acl_env.benchmark import run as bench
 from acl_env.benchmark.summary import limits, summarize_benchmark
@@ -25,7 +25,10 @@ def test_every_grid_has_48_cells_nominal_first_held_out_marked(task: str) -> Non
     cells = grid.cells()
     assert len({c.key for c in cells}) == len(cells)
     sea = grid in (grids.SEA_GRID, grids.ROBUST_SEA_GRID)
-    assert len(cells) == (57 if sea else 51)  # docs/benchmark.md's counts
+    events = len(grid.events)
+    assert len(cells) == (57 if sea else 51) + events  # docs/benchmark.md's counts
+    assert cells[len(cells) - events :] == list(grid.events)
+    cells = cells[: len(cells) - events]
     assert cells[0].key == "nominal" and not cells[0].held_out
     assert all(len(c.kwargs) <= 2 for c in cells)
     for cell in cells:
@@ -40,6 +43,7 @@ def test_every_grid_has_48_cells_nominal_first_held_out_marked(task: str) -> Non
         # SEA tasks', held out only on the 0.12 m pole
         assert [c.key for c in cells] == [c.key for c in grids.SEA_GRID.cells()]
         assert all(c.held_out == (c.kwargs.get("pole_radius") == 0.12) for c in cells)
+        assert grid.events == (grids.FRICTION_STEP,)  # and the friction step, held out
     else:
         assert sum(v < friction.training[0] for v in friction.values) >= 2
 
@@ -244,3 +248,28 @@ def test_acl_evaluate_and_acl_compare_over_training_seeds(
     entry = result["over_seeds"]["climb_per_gait_cycle_m"]
     assert entry["probability_of_improvement"]["mean"] == 0.5
     assert entry["iqm_difference"]["mean"] == 0.0
+
+
+def test_an_event_is_a_cell_and_grids_without_events_resume_their_records() -> None:
+    """The robust grid's friction step is its last cell, held out, in the record's settings;
+    the settings of a grid without events read as before, so the published SEA record still
+    resumes."""
+    from acl_env.benchmark.run import settings
+    from acl_env.io import read_json
+
+    root = Path(__file__).resolve().parents[1]
+    robust = grids.grid_for(ACL_CLIMB_ROBUST_ID)
+    last = robust.cells()[-1]
+    assert last.key == "friction_step=0.5" and last.held_out
+    assert robust.env_kwargs(last) == {"friction_step": 0.5}
+    made = settings(ACL_CLIMB_ROBUST_ID, [], robust, [0], root / "acl_env/data/tuned_gaits.json")
+    assert made["events"] == [{"friction_step": 0.5}]
+    published = read_json(root / "docs/benchmark_sea.json")["settings"]
+    again = settings(
+        published["task"],
+        [root / p for p in published["policies"]],
+        grids.grid_for(published["task"]),
+        published["seeds"],
+        root / published["tuned_gaits"],
+    )
+    assert again == published

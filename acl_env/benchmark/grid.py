@@ -5,7 +5,8 @@ the shipped recipe's domain randomisation trains on.
 The design is full factorial over every two axes at a time, the others at their nominal values
 (the task's defaults): every single change and every pair of changes is a cell, and the cells
 where two axes are off-nominal show how their effects combine. A cell is *held out* when any of
-its values lies outside the training ranges.
+its values lies outside the training ranges. A grid may add *events*, cells of their own played at
+the nominal condition: the pole turning slippery mid-episode (``friction_step``).
 """
 
 from __future__ import annotations
@@ -71,10 +72,11 @@ class Cell:
 class Grid:
     """The axes of one task and its cells (pairwise full factorial, :mod:`this module's
     <acl_env.benchmark.grid>` design); ``fixed``: kwargs every cell adds (a test's short
-    episodes)."""
+    episodes); ``events``: cells played after the grid's, at the nominal condition."""
 
     axes: tuple[Axis, ...]
     fixed: Mapping[str, Any] = field(default_factory=dict)
+    events: tuple[Cell, ...] = ()
 
     def axis(self, name: str) -> Axis:
         """The axis of env keyword argument ``name``."""
@@ -94,7 +96,7 @@ class Grid:
                 held_out = any(not self.axis(k).trained(v) for k, v in changed.items())
                 cell = Cell(changed, held_out)
                 seen.setdefault(cell.key, cell)
-        return sorted(seen.values(), key=lambda c: (len(c.kwargs), c.key))
+        return sorted(seen.values(), key=lambda c: (len(c.kwargs), c.key)) + list(self.events)
 
     def env_kwargs(self, cell: Cell) -> dict[str, Any]:
         """The keyword arguments that play ``cell``."""
@@ -118,15 +120,19 @@ SPRING = Axis(
 )
 LATENCY = Axis("control_latency", (0.0, 0.01, 0.1, LATENCY_RANGE[1]), 0.01, (0.0, 0.05), "s")
 SEA_GRID = Grid((POLE, FRICTION, SPRING, LATENCY))
+# The pole turning slippery at a random step of the episode (friction 1.0 -> 0.5), which no
+# recipe trains on.
+FRICTION_STEP = Cell({"friction_step": 0.5}, held_out=True)
 # The robust task's recipe trains over the grid but its thickest pole: every other cell is a
-# training cell there.
+# training cell there. Its grid adds the friction step.
 ROBUST_SEA_GRID = Grid(
     (
         replace(POLE, training=(0.055, 0.1)),
         replace(FRICTION, training=(0.4, 1.2)),
         replace(SPRING, training=(12.0, 28.0)),
         replace(LATENCY, training=(0.0, 0.2)),
-    )
+    ),
+    events=(FRICTION_STEP,),
 )
 # The ideal servo has no latency option: its stiffness takes six values instead.
 KP = Axis("kp", (10.0, 12.0, 15.0, DEFAULT_KP, 25.0, 30.0), DEFAULT_KP, (15.0, 30.0), "N m/rad")

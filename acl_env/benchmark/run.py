@@ -91,6 +91,8 @@ def settings(
                 for a in grid.axes
             },
             "fixed": dict(grid.fixed),
+            # only where there are events: the records of grids without them read as before
+            **({"events": [dict(c.kwargs) for c in grid.events]} if grid.events else {}),
         }
     )
 

@@ -129,17 +129,22 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     if 1 < len(args.policy) < MIN_SEEDS:
         print(f"fewer than {MIN_SEEDS} seeds: the intervals over seeds are too narrow to trust")
     print(json.dumps(jsonable(record["summary"]["all"]["scores"]), indent=1))
-    for policy, where in record["summary"]["limits"].items():
+    print_limits(record["summary"]["limits"], len(cells))
+    return record
+
+
+def print_limits(found: dict[str, Any], cells: int) -> None:
+    """One line per policy of :func:`~acl_env.benchmark.summary.limits`' counts."""
+    for policy, where in found.items():
         print(
             f"{policy}: falls more often than the best analytic controller in "
-            f"{len(where['cells_falling_more_than_best_analytic'])} of {len(cells)} cells; "
+            f"{len(where['cells_falling_more_than_best_analytic'])} of {cells} cells; "
             f"succeeds reliably in {where['held_out_reliable_cells_held']} of the "
             f"{where['held_out_reliable_cells']} held-out cells where an analytic controller does; "
             f"holds on in {len(where['cells_every_analytic_loses_held'])} of the "
             f"{len(where['cells_every_analytic_loses'])} cells where every analytic controller "
             "falls in most episodes"
         )
-    return record
 
 
 run = console_script(main)

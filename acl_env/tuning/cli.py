@@ -65,10 +65,12 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any] | None:
     image = None
     if plot is not None:  # drawn before anything is written: a failure here writes nothing
         weights = ", ".join(f"{k} {v:g}" for k, v in settings.reward_weights.items())
+        seeds = f"{len(settings.seeds)} seed{'s' if len(settings.seeds) != 1 else ''} each"
+        if settings.condition:
+            seeds += f" in each of {len(settings.conditions())} conditions"
         title = (
             f"{key}: {entry['trials']} {'compliant grips' if settings.grip else 'open-loop gaits'}"
-            f" on {settings.env_id}, {len(settings.seeds)}"
-            f" seeds each, {settings.steps_per_cycle} steps per gait cycle"
+            f" on {settings.env_id}, {seeds}, {settings.steps_per_cycle} steps per gait cycle"
             f"\n{settings.objective} with reward weights {weights}"
         )
         image = render_frontier(

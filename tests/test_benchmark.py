@@ -273,3 +273,21 @@ def test_an_event_is_a_cell_and_grids_without_events_resume_their_records() -> N
         root / published["tuned_gaits"],
     )
     assert again == published
+
+
+def test_heat_maps_draw_the_events_in_a_column_of_their_own(record: dict, tmp_path: Path) -> None:
+    """A record's heat maps, and the same record with an event: one panel wider."""
+    import copy
+
+    import matplotlib.image
+
+    from acl_env.benchmark.figures import plot_heat_maps
+
+    plain, with_event = tmp_path / "plain.png", tmp_path / "event.png"
+    plot_heat_maps(record, "success_rate", plain)
+    evented = copy.deepcopy(record)
+    evented["settings"]["events"] = [{"friction_step": 0.5}]
+    evented["cells"]["friction_step=0.5"] = copy.deepcopy(record["cells"]["friction=0.5"])
+    plot_heat_maps(evented, "success_rate", with_event)
+    height, width = matplotlib.image.imread(plain).shape[:2]
+    assert matplotlib.image.imread(with_event).shape[:2] == (height, 2 * width)

@@ -1,6 +1,7 @@
 """Heat maps of a benchmark record: for one score, a row of panels per controller (the policies
-as their mean over seeds), one panel per pair of axes, the other axes nominal. A cell where the
-controller falls in most episodes is marked with a cross."""
+as their mean over seeds), one panel per pair of axes, the other axes nominal, and one for the
+grid's events (such as the friction step) where it has any. A cell where the controller falls in
+most episodes is marked with a cross."""
 
 from __future__ import annotations
 
@@ -45,13 +46,15 @@ def plot_heat_maps(
     title, scale, _, unit = TITLES[score]
     axes_info = record["settings"]["axes"]
     pairs = list(itertools.combinations(axes_info, 2))
+    events = [Cell(e, held_out=True).key for e in record["settings"].get("events", [])]
     policies, analytic = controllers_of(record)
     rows = (["policies"] if policies else []) + analytic
     labels = labels or {}
+    columns = len(pairs) + bool(events)
     fig, grid = plt.subplots(
         len(rows),
-        len(pairs),
-        figsize=(2.6 * len(pairs), 2.3 * len(rows) + 0.8),
+        columns,
+        figsize=(2.6 * columns, 2.3 * len(rows) + 0.8),
         squeeze=False,
         layout="constrained",
     )
@@ -62,6 +65,8 @@ def plot_heat_maps(
         names = policies if row == "policies" else [row]
         for c, pair in enumerate(pairs):
             image = _heat_map(grid[r, c], record, names, pair, score, colours)
+        if events:
+            _events_panel(grid[r, len(pairs)], record, names, events, score, colours)
         label = f"policies (mean of {len(policies)})" if row == "policies" else labels.get(row, row)
         grid[r, 0].annotate(
             label,
@@ -119,7 +124,6 @@ def _heat_map(
     """One panel: the mean ``score`` of the controllers ``names`` over the grid of the ``pair``
     of axes (the others nominal), each cell written in and crossed where they fall in most
     episodes; return its image."""
-    _, scale, fmt, _ = TITLES[score]
     axes_info = record["settings"]["axes"]
     x_name, y_name = pair
     xs, ys = axes_info[x_name]["values"], axes_info[y_name]["values"]
@@ -130,20 +134,7 @@ def _heat_map(
         cell = record["cells"].get(Cell(changed, held_out=False).key)
         if cell is None:
             continue
-        results = [cell["controllers"][n] for n in names]
-        data[i, j] = np.nanmean([_value(res, score) for res in results]) * scale
-        ax.text(
-            j,
-            i,
-            "" if np.isnan(data[i, j]) else fmt.format(data[i, j]),
-            ha="center",
-            va="center",
-            fontsize=8,
-            color=colours.text(data[i, j]),
-        )
-        falls = np.mean([res["falls"] / res["episodes"] for res in results])
-        if falls > 0.5:
-            ax.plot(j, i, marker="x", color="red", markersize=18, mew=2)
+        data[i, j] = _mark(ax, (i, j), [cell["controllers"][n] for n in names], score, colours)
     image = ax.imshow(
         data, origin="lower", cmap=colours.cmap, vmin=colours.vmin, vmax=colours.vmax, aspect="auto"
     )
@@ -152,6 +143,42 @@ def _heat_map(
     ax.set_xlabel(x_name, fontsize=9)
     ax.set_ylabel(y_name, fontsize=9)
     return image
+
+
+def _mark(
+    ax: Any, at: tuple[int, int], results: list[dict[str, Any]], score: str, colours: _Colours
+) -> float:
+    """Write the controllers' mean ``score`` (scaled) into the cell at ``at`` (row, column),
+    crossed where they fall in most episodes; return the value."""
+    _, scale, fmt, _ = TITLES[score]
+    value = np.nanmean([_value(res, score) for res in results]) * scale
+    i, j = at
+    text = "" if np.isnan(value) else fmt.format(value)
+    ax.text(j, i, text, ha="center", va="center", fontsize=8, color=colours.text(value))
+    if np.mean([res["falls"] / res["episodes"] for res in results]) > 0.5:
+        ax.plot(j, i, marker="x", color="red", markersize=18, mew=2)
+    return value
+
+
+def _events_panel(
+    ax: Any,
+    record: dict[str, Any],
+    names: list[str],
+    events: list[str],
+    score: str,
+    colours: _Colours,
+) -> None:
+    """One panel: the controllers' mean ``score`` in each event cell (keys ``events``)."""
+    data = np.full((len(events), 1), np.nan)
+    for i, key in enumerate(events):
+        results = [record["cells"][key]["controllers"][n] for n in names]
+        data[i, 0] = _mark(ax, (i, 0), results, score, colours)
+    ax.imshow(
+        data, origin="lower", cmap=colours.cmap, vmin=colours.vmin, vmax=colours.vmax, aspect="auto"
+    )
+    ax.set_xticks([])
+    ax.set_yticks(range(len(events)), events, fontsize=8)
+    ax.set_xlabel("events, at the nominal condition", fontsize=9)
 
 
 def plot_profiles(

@@ -156,6 +156,12 @@ def transported(samples: CurveSamples) -> CurveSamples:
     return dataclasses.replace(samples, twist=_cumsum0(samples.turns))
 
 
+def first_rows(samples: CurveSamples, n: int) -> CurveSamples:
+    """The samples of the first ``n`` phases only (every per-phase array cut to ``n`` rows)."""
+    per_phase = ("points", "tangent", "normal", "s", "kappa", "tau", "twist", "speed", "turns")
+    return dataclasses.replace(samples, **{name: getattr(samples, name)[:n] for name in per_phase})
+
+
 def sample_curve(
     curve: PitchVaryingHelix,
     phases: np.ndarray,

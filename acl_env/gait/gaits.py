@@ -31,6 +31,7 @@ from acl_env.gait.curves import (
     CurveSamples,
     PitchVaryingHelix,
     bellows_integrals,
+    first_rows,
     points_at_arclength,
     sample_curve,
     surface_frame_offset,
@@ -313,9 +314,20 @@ class ACLGait(Gait):
         self.transport_twist = twist_mismatch(samples) > TWIST_MISMATCH
         if self.transport_twist:
             samples = transported(samples)
+        # phi_0's reference is the first keyframe's offset. The keyframe table is made from these
+        # samples on first use: placing the snake at a reset needs one keyframe, not the cycle.
+        first = surface_frame_offset(first_rows(samples, 1), self.body_length)
+        self._frame_offset_0 = float(first[0])
+        self._keyframe_samples: CurveSamples | None = samples
+
+    @cached_property
+    def _keyframe_angles(self) -> np.ndarray:
+        """The keyframe table, unclipped (Eq. 3-5 at each keyframe)."""
+        keyframes = np.arange(self.steps_per_cycle) / self.steps_per_cycle
+        samples, self._keyframe_samples = self._keyframe_samples, None  # the table is kept
+        assert samples is not None  # the table is made once (cached), from __init__'s samples
         offsets = surface_frame_offset(samples, self.body_length)
-        self._frame_offset_0 = float(offsets[0])
-        self._keyframe_angles = self._angles(keyframes, samples, offsets)
+        return self._angles(keyframes, samples, offsets)
 
     @property
     def _raw_cycle(self) -> np.ndarray:

@@ -279,15 +279,15 @@ class ACLGait(Gait):
         rock_phase: float = 0.0,
     ) -> None:
         super().__init__(
-            n_joints=n_joints,
-            module_length=module_length,
-            radius=radius,
-            pitch=pitch,
-            rolls_per_cycle=rolls_per_cycle,
-            steps_per_cycle=steps_per_cycle,
-            module_diameter=module_diameter,
-            rock_amp=rock_amp,
-            rock_phase=rock_phase,
+            n_joints,
+            module_length,
+            radius,
+            pitch,
+            rolls_per_cycle,
+            steps_per_cycle,
+            module_diameter,
+            rock_amp,
+            rock_phase,
         )
         amp_pitch = check_finite("amp_pitch", amp_pitch)
         amp_radial = check_finite("amp_radial", amp_radial)

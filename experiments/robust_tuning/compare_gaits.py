@@ -25,7 +25,8 @@ from acl_env.scripts import make_parser, seeds, write_output
 from acl_env.shipped import policy_dir
 from acl_env.training.policy import read_policy_folder
 
-# The conditions of issue 48's table, the nominal pole, and the grid's thinnest and thickest.
+# The conditions of issue 48's table, the nominal pole, the grid's thinnest and thickest, and the
+# friction step.
 CONDITIONS: dict[str, dict[str, float]] = {
     "nominal": {},
     "friction 0.5, spring 12": {"friction": 0.5, "spring_stiffness": 12.0},
@@ -39,6 +40,9 @@ CONDITIONS: dict[str, dict[str, float]] = {
     "friction 0.5, latency 0.2": {"friction": 0.5, "control_latency": 0.2},
     "pole 0.055": {"pole_radius": 0.055},
     "pole 0.12": {"pole_radius": 0.12},
+    # the pole turning slippery (1.0 -> 0.5) at a random step, on the nominal and the soft spring
+    "friction step 0.5": {"friction_step": 0.5},
+    "friction step 0.5, spring 12": {"friction_step": 0.5, "spring_stiffness": 12.0},
 }
 GAITS = {"open_loop_acl": "paper's gait", "acl_sea": "tuned (nominal)", "acl_sea_robust": "robust"}
 

@@ -2,8 +2,8 @@
 
 ``acl-train-rllib`` needs the ``rllib`` extra (``pip install "acl_env[rllib]"``). Ray 2.60 pins
 gymnasium 1.2.2, older than the package's default, so give it an environment of its own
-(docs/training.md#rllib). It is an alternative to ``acl-train``, not its replacement: the shipped
-policies, their records and ``acl-evaluate`` are Stable-Baselines3's.
+(docs/training.md, "RLlib: beyond one machine"). It is an alternative to ``acl-train``, not its
+replacement: the shipped policies, their records and ``acl-evaluate`` are Stable-Baselines3's.
 
 Each of Ray's env runners holds one :class:`~acl_env.envs.vector.ACLClimbVectorEnv` of
 ``--envs-per-runner`` worlds (RLlib's ``gym_env_vectorize_mode="vector_entry_point"``): its worlds'
@@ -46,16 +46,15 @@ def make_worlds(config: Mapping[str, Any]) -> gymnasium.Env | gymnasium.vector.V
     that the ids are registered there."""
     import acl_env  # noqa: F401  (registers the ids in a Ray worker)
 
-    kwargs = {k: v for k, v in config.items() if k not in ("env_id", "num_envs", "threads")}
-    if "num_envs" not in config:
-        return gymnasium.make(config["env_id"], **kwargs)
-    if config.get("threads") is not None:
-        kwargs["threads"] = config["threads"]
+    kwargs = dict(config)
+    env_id, num_envs = kwargs.pop("env_id"), kwargs.pop("num_envs", None)
+    threads = kwargs.pop("threads", None)
+    if num_envs is None:
+        return gymnasium.make(env_id, **kwargs)
+    if threads is not None:  # else the vector env's own default
+        kwargs["threads"] = threads
     return gymnasium.make_vec(
-        config["env_id"],
-        num_envs=int(config["num_envs"]),
-        vectorization_mode="vector_entry_point",
-        **kwargs,
+        env_id, num_envs=int(num_envs), vectorization_mode="vector_entry_point", **kwargs
     )
 
 

@@ -197,8 +197,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     if not args.skip_vector:
         figures |= vector_scaling(args.steps, args.rounds)
     figures["real_time_factor"] = 0.1 * figures["steps_per_s_default"]
+    write_outputs(args, figures, plot)  # the files first: a closed pipe loses nothing
     print_figures(figures)
-    write_outputs(args, figures, plot)
     return figures
 
 

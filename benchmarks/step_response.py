@@ -159,8 +159,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     args = parser.parse_args(argv)
     runs = {name: respond(name, args.step, args.duration) for name in CANDIDATES}
     document = {"step": args.step, "rotor_inertia": ROTOR_INERTIA, **compare(runs), "runs": runs}
+    write_outputs(args, document, plot)  # the files first: a closed pipe loses nothing
     print_figures(document, ".4f", 36)
-    write_outputs(args, document, plot)
     return document
 
 

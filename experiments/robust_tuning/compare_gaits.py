@@ -25,8 +25,8 @@ from acl_env.scripts import make_parser, seeds, write_output
 from acl_env.shipped import policy_dir
 from acl_env.training.policy import read_policy_folder
 
-# The conditions of issue 48's table, the nominal pole, the grid's thinnest and thickest, and the
-# friction step.
+# The conditions where acl_sea was seen to lose the pole, the nominal pole, the grid's thinnest
+# and thickest, and the friction step.
 CONDITIONS: dict[str, dict[str, float]] = {
     "nominal": {},
     "friction 0.5, spring 12": {"friction": 0.5, "spring_stiffness": 12.0},
@@ -60,6 +60,18 @@ def controllers_for(condition: dict[str, float]) -> list[Any]:
     return chosen
 
 
+def _summary(episodes: list[Any]) -> dict[str, Any]:
+    """Falls, and the climb per gait cycle and slip per metre over the episodes that held on."""
+    held = [e.metrics() for e in episodes if not e.fell]
+    return {
+        "falls": sum(e.fell for e in episodes),
+        "climb_per_gait_cycle_m": (
+            float(np.mean([m["climb_per_gait_cycle_m"] for m in held])) if held else None
+        ),
+        "slip_per_m": float(np.mean([m["slip_per_m"] for m in held])) if held else None,
+    }
+
+
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = make_parser(__doc__, plot=False, seed=0, episodes=8, workers=2, progress=True)
     args = parser.parse_args(argv)
@@ -71,35 +83,24 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             results = run_controllers(
                 controllers_for(condition), played, pool, progress=not args.no_progress_bar
             )
-            row = {}
-            for name, episodes in results.items():
-                climbs = [e.metrics()["climb_per_gait_cycle_m"] for e in episodes]
-                held = [c for c, e in zip(climbs, episodes, strict=True) if not e.fell]
-                row[name] = {
-                    "falls": sum(e.fell for e in episodes),
-                    "climb_per_gait_cycle_m": float(np.mean(held)) if held else None,
-                    "slip_per_m": float(
-                        np.mean([e.metrics()["slip_per_m"] for e in episodes if not e.fell])
-                    )
-                    if held
-                    else None,
-                }
+            row = {name: _summary(episodes) for name, episodes in results.items()}
             document["conditions"][label] = {"env_kwargs": condition, "controllers": row}
-            cells = [
-                f"{GAITS[n]}: "
-                + (
-                    f"{100 * r['climb_per_gait_cycle_m']:.1f} cm"
-                    if r["climb_per_gait_cycle_m"] is not None
-                    else "-"
-                )
-                + f", falls {r['falls']}/{len(played)}"
-                for n, r in row.items()
-            ]
-            print(f"{label:50s} " + "; ".join(cells), flush=True)
     finally:
         if pool is not None:
             pool.shutdown()
-    write_output(args.json, document)
+    write_output(args.json, document)  # the record first: a closed pipe loses nothing
+    for label, entry in document["conditions"].items():
+        cells = [
+            f"{GAITS[n]}: "
+            + (
+                f"{100 * r['climb_per_gait_cycle_m']:.1f} cm"
+                if r["climb_per_gait_cycle_m"] is not None
+                else "-"
+            )
+            + f", falls {r['falls']}/{len(played)}"
+            for n, r in entry["controllers"].items()
+        ]
+        print(f"{label:50s} " + "; ".join(cells))
     return document
 
 

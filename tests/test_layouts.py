@@ -148,3 +148,32 @@ def test_friction_step_makes_the_pole_slippery_at_a_drawn_step() -> None:
     assert "slippery" not in plain.reset(seed=4)[1] and plain._friction_step is None
     with pytest.raises(ValueError, match="friction_step"):
         ACLClimbEnv(friction_step=-1.0)
+
+
+def test_friction_step_randomised_draws_each_episode_its_friction() -> None:
+    """``domain_randomization={"friction_step": (low, high)}``: every episode's pole changes to a
+    friction drawn from the range, at a drawn step; the draws come after the others, so the
+    episode's physics up to the step is the one without the event, bit for bit."""
+    short = {"steps_per_cycle": 20, "cycles_per_episode": 2}
+    ranges = {"friction": (0.7, 1.2)}
+    env = ACLClimbEnv(domain_randomization={**ranges, "friction_step": (0.4, 0.6)}, **short)
+    plain = ACLClimbEnv(domain_randomization=ranges, **short)
+    pole = env.model.geom("pole").id
+    drawn = set()
+    for seed in range(3):
+        obs, _ = env.reset(seed=seed)
+        assert np.array_equal(obs, plain.reset(seed=seed)[0])
+        assert env.model.geom_friction[pole, 0] == plain.model.geom_friction[pole, 0]
+        step = env._friction_step
+        assert 0.4 <= step.friction <= 0.6 and 1 <= step.at < 40
+        drawn.add(step.friction)
+        for _ in range(step.at + 1):
+            *_, terminated, _, info = env.step(np.zeros(env.action_space.shape))
+            if terminated:
+                break
+        else:
+            assert info["slippery"] and env.model.geom_friction[pole, 0] == step.friction
+    assert len(drawn) == 3
+    with pytest.raises(ValueError, match="friction_step"):
+        ACLClimbEnv(domain_randomization={"friction_step": (0.5, 9.0)})
+    assert "friction_step" not in ACLClimbEnv(domain_randomization=True).config.randomization

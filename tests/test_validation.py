@@ -244,6 +244,7 @@ RANDOMIZATION_LIMITS = {
     **RANGE_BOUNDS,
     "pole_radius": POLE_RADIUS_RANGE,
     "friction": (0.0, FRICTION_MAX),
+    "friction_step": (0.0, FRICTION_MAX),
     "kp": (0.0, KP_MAX),
 }
 

@@ -167,8 +167,11 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
             grip = (grip_config.target, grip_config.gain, grip_config.leak)
             self._grip = GripController(gait.section_weights, *grip)
         self._physics = StepPhysics(self, self._contacts, self._readout)
-        drop = config.physics.friction_step  # the pole turning slippery (envs/events.py)
-        self._friction_step = None if drop is None else FrictionStep(drop, elements)
+        # the pole turning slippery (envs/events.py): at a set friction, or a drawn one
+        drop, drawn = config.physics.friction_step, config.randomization.get("friction_step")
+        self._friction_step = None
+        if drop is not None or drawn is not None:
+            self._friction_step = FrictionStep(drop or 0.0, elements, drawn)
         self._root_body = elements.snake_bodies[0]
         # Views into MjData made once: each attribute access of MjData builds a new array view.
         data = self.data

@@ -286,7 +286,8 @@ class EnvConfig:
         name = check_choice("actuator_model", raw["actuator_model"], tuple(ACTUATOR_MODELS))
         model = ACTUATOR_MODELS[name]
         options = actuator_options(model, {o: raw[o] for o in all_options()})
-        bounds = {"pole_radius": POLE_RADIUS_RANGE, "friction": (0.0, FRICTION_MAX)}
+        friction = (0.0, FRICTION_MAX)
+        bounds = {"pole_radius": POLE_RADIUS_RANGE, "friction": friction, "friction_step": friction}
         ranges = check_randomization(raw["domain_randomization"], bounds, model)
         history = ranges.get("control_latency", (0.0, 0.0))[1]
         poles = (physics.pole_radius, *ranges.get("pole_radius", ()))

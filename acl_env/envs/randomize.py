@@ -40,6 +40,9 @@ SCENE_BOUNDS: dict[str, tuple[float, float]] = {
     "mass_scale": (1e-3, 10.0),
 }
 SENSOR_NOISE_MAX = 1.0  # rad: beyond this the angles are noise
+# Events that domain_randomization can draw, never part of what True draws: the friction the
+# pole changes to at a random step (envs/events.py), drawn after everything else.
+EVENT_BOUNDS: dict[str, tuple[float, float]] = {"friction_step": (0.0, math.inf)}
 
 
 def default_randomization(model: str | ActuatorModel) -> dict[str, Any]:
@@ -50,12 +53,12 @@ def default_randomization(model: str | ActuatorModel) -> dict[str, Any]:
 
 def randomization_bounds(model: ActuatorModel) -> dict[str, tuple[float, float]]:
     """The widest accepted ranges of every key a draw on ``model`` can set."""
-    return {**SCENE_BOUNDS, **model.randomization_bounds}
+    return {**SCENE_BOUNDS, **model.randomization_bounds, **EVENT_BOUNDS}
 
 
 def randomization_keys(model: ActuatorModel) -> tuple[str, ...]:
     """The keys ``domain_randomization`` accepts on ``model``."""
-    return (*SCENE_RANDOMIZATION, *model.randomized())
+    return (*SCENE_RANDOMIZATION, *model.randomized(), *EVENT_BOUNDS)
 
 
 def draw_order(model: ActuatorModel) -> tuple[str, ...]:

@@ -1,12 +1,14 @@
-"""The paper's gait, the nominal tuned gait and the robust one, open loop on the SEA, under the
-conditions where the tuned gait lost the pole, on the same seeds.
+"""The paper's gait, the nominal tuned gait and the robust one, open loop on the SEA, and each
+tuned gait with its tuned compliant grip, under the conditions where the tuned gait lost the
+pole, on the same seeds.
 
 ``python experiments/robust_tuning/compare_gaits.py [--episodes 8] [--workers 2] [--json PATH]``
 
 Each condition is a set of env keyword arguments over ``ACLClimb-v3``'s defaults. The three
 controllers are the evaluation's own (``acl_env.evaluation.baselines.build_controllers`` for the
-SEA task): ``open_loop_acl`` (the paper's gait) and ``open_loop_tuned`` played with the entries
-``acl_sea`` and ``acl_sea_robust`` of the shipped tuned gaits.
+SEA task): ``open_loop_acl`` (the paper's gait), and ``open_loop_tuned`` and ``compliant_acl``
+played with the entries ``acl_sea`` and ``acl_sea_robust`` of the shipped tuned gaits (and their
+grips, ``acl_sea_grip`` and ``acl_sea_robust_grip``).
 """
 
 from __future__ import annotations
@@ -44,11 +46,17 @@ CONDITIONS: dict[str, dict[str, float]] = {
     "friction step 0.5": {"friction_step": 0.5},
     "friction step 0.5, spring 12": {"friction_step": 0.5, "spring_stiffness": 12.0},
 }
-GAITS = {"open_loop_acl": "paper's gait", "acl_sea": "tuned (nominal)", "acl_sea_robust": "robust"}
+GAITS = {
+    "open_loop_acl": "paper's gait",
+    "acl_sea": "tuned (nominal)",
+    "acl_sea_robust": "robust",
+    "acl_sea_grip": "compliant (nominal)",
+    "acl_sea_robust_grip": "compliant robust",
+}
 
 
 def controllers_for(condition: dict[str, float]) -> list[Any]:
-    """The three controllers under ``condition``, named by :data:`GAITS`' keys."""
+    """The five controllers under ``condition``, named by :data:`GAITS`' keys."""
     folder = read_policy_folder(policy_dir("acl_climb_sea_ppo"))
     chosen = []
     for key in ("acl_sea", "acl_sea_robust"):
@@ -57,6 +65,7 @@ def controllers_for(condition: dict[str, float]) -> list[Any]:
         if key == "acl_sea":
             chosen.append(by_name["open_loop_acl"])
         chosen.append(replace(by_name["open_loop_tuned"], name=key))
+        chosen.append(replace(by_name["compliant_acl"], name=f"{key}_grip"))
     return chosen
 
 

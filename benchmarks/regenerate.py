@@ -105,8 +105,8 @@ RECORDS: dict[str, Record] = {
             )
         ),
         "acl-benchmark --policy acl_climb_sea_ppo"
-        " experiments/training_seeds/acl_climb_sea_ppo_seed1"
-        " --json docs/benchmark_sea.json --plots docs/benchmark_sea.png",
+        + "".join(f" experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5))
+        + " --json docs/benchmark_sea.json --plots docs/benchmark_sea.png",
     ),
     "eval_noroll_compliant": Record(
         ("docs/eval_noroll_compliant.json",),

@@ -151,7 +151,9 @@ def _mark(
     """Write the controllers' mean ``score`` (scaled) into the cell at ``at`` (row, column),
     crossed where they fall in most episodes; return the value."""
     _, scale, fmt, _ = TITLES[score]
-    value = np.nanmean([_value(res, score) for res in results]) * scale
+    values = np.array([_value(res, score) for res in results], dtype=float)
+    defined = values[~np.isnan(values)]  # none where every controller fell: a blank cell
+    value = float(defined.mean()) * scale if defined.size else np.nan
     i, j = at
     text = "" if np.isnan(value) else fmt.format(value)
     ax.text(j, i, text, ha="center", va="center", fontsize=8, color=colours.text(value))

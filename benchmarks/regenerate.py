@@ -56,6 +56,17 @@ class Record:
         return [sys.executable if word == "python" else word for word in words]
 
 
+def benchmark_record(name: str, policies: list[str]) -> Record:
+    """``acl-benchmark`` of ``policies`` into ``docs/<name>.json`` and its figures (the heat maps
+    of each score and the performance profiles)."""
+    scores = ("success_rate", "climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "profiles")
+    return Record(
+        (f"docs/{name}.json", *(f"docs/{name}_{score}.png" for score in scores)),
+        f"acl-benchmark --policy {' '.join(policies)}"
+        f" --json docs/{name}.json --plots docs/{name}.png",
+    )
+
+
 RECORDS: dict[str, Record] = {
     "eval": Record(
         ("docs/eval.json", "docs/eval.png"),
@@ -92,21 +103,13 @@ RECORDS: dict[str, Record] = {
         f"python benchmarks/policy_behaviour.py --policy {COMPLIANT_POLICY} --episodes 20"
         " --json docs/policy_behaviour.json --plot docs/policy_behaviour.png",
     ),
-    "benchmark_sea": Record(
-        tuple(
-            f"docs/benchmark_sea{suffix}"
-            for suffix in (
-                ".json",
-                "_success_rate.png",
-                "_climb_per_gait_cycle_m.png",
-                "_slip_per_m.png",
-                "_energy_per_m.png",
-                "_profiles.png",
-            )
-        ),
-        "acl-benchmark --policy acl_climb_sea_ppo"
-        + "".join(f" experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5))
-        + " --json docs/benchmark_sea.json --plots docs/benchmark_sea.png",
+    "benchmark_sea": benchmark_record(
+        "benchmark_sea",
+        ["acl_climb_sea_ppo"]
+        + [f"experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5)],
+    ),
+    "benchmark_robust": benchmark_record(
+        "benchmark_robust", ["experiments/training_seeds/acl_climb_robust_ppo_seed0"]
     ),
     "eval_noroll_compliant": Record(
         ("docs/eval_noroll_compliant.json",),

@@ -211,3 +211,17 @@ def test_readme_seeds_sentence_is_the_record() -> None:
     for metric, name in ((climb, "climb"), (slip, "slip")):
         poi = metric["probability_of_improvement"]
         assert f"{name} {poi['mean']:.2f}" in text, name
+
+
+def test_readme_robust_sentence_is_the_record() -> None:
+    """The robust residual's grid result and its gait's, as the README states them
+    (docs/benchmark_robust.json)."""
+    from acl_env.io import read_json
+
+    record = read_json(ROOT / "docs" / "benchmark_robust.json")
+    rates = record["summary"]["all"]["scores"]["success_rate"]
+    text = " ".join((ROOT / "README.md").read_text().split())
+    (policy,) = rates["policies"]["per_seed"].values()
+    assert f"the residual holds the pole in {policy:.2f} of the episodes" in text
+    assert rates["analytic"]["open_loop_acl_same_cadence"] == 1.0  # "holds in all"
+    assert record["settings"]["task"] == "acl_env/ACLClimbRobust-v1"

@@ -177,3 +177,5 @@ def test_friction_step_randomised_draws_each_episode_its_friction() -> None:
     with pytest.raises(ValueError, match="friction_step"):
         ACLClimbEnv(domain_randomization={"friction_step": (0.5, 9.0)})
     assert "friction_step" not in ACLClimbEnv(domain_randomization=True).config.randomization
+    with pytest.raises(ValueError, match="both given"):
+        ACLClimbEnv(friction_step=0.5, domain_randomization={"friction_step": (0.4, 0.6)})

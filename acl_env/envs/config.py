@@ -289,6 +289,11 @@ class EnvConfig:
         friction = (0.0, FRICTION_MAX)
         bounds = {"pole_radius": POLE_RADIUS_RANGE, "friction": friction, "friction_step": friction}
         ranges = check_randomization(raw["domain_randomization"], bounds, model)
+        if physics.friction_step is not None and "friction_step" in ranges:
+            raise ValueError(
+                "friction_step and domain_randomization['friction_step'] are both given: "
+                "a fixed friction step or a drawn one, not both"
+            )
         history = ranges.get("control_latency", (0.0, 0.0))[1]
         poles = (physics.pole_radius, *ranges.get("pole_radius", ()))
         gait = GaitConfig.checked(raw, physics.n_joints, poles)

@@ -84,32 +84,37 @@ class Saturation:
     max_excess: float  # largest |angle| - limit before clipping (rad), 0 if none
 
 
+@dataclass(eq=False, kw_only=True)
 class Gait:
-    """Shared machinery: validation, roll offset, clipping, the cached keyframe table."""
+    """Shared machinery: validation, roll offset, clipping, the cached keyframe table.
 
-    def __init__(
-        self,
-        n_joints: int = DEFAULT_N_JOINTS,
-        module_length: float = SEA_MODULE_LENGTH,
-        radius: float = DEFAULT_RADIUS,
-        pitch: float = DEFAULT_PITCH,
-        rolls_per_cycle: float = 1.0,
-        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
-        module_diameter: float = SEA_MODULE_DIAMETER,
-        rock_amp: float = 0.0,
-        rock_phase: float = 0.0,
-    ) -> None:
-        self.n_joints = check_int("n_joints", n_joints, 3, MAX_JOINTS)
-        self.steps_per_cycle = check_int("steps_per_cycle", steps_per_cycle, 2, MAX_STEPS)
-        self.module_length = check_positive("module_length", module_length, MAX_LENGTH)
-        self.module_diameter = check_positive("module_diameter", module_diameter, MAX_LENGTH)
-        self.radius = check_positive("radius", radius, MAX_LENGTH)
-        self.pitch = check_positive("pitch", pitch, MAX_LENGTH)
+    Its fields are the arguments every gait takes; a gait's own arguments are its subclass's
+    fields. Each is checked once, when the gait is made.
+    """
+
+    n_joints: int = DEFAULT_N_JOINTS
+    module_length: float = SEA_MODULE_LENGTH
+    radius: float = DEFAULT_RADIUS
+    pitch: float = DEFAULT_PITCH
+    rolls_per_cycle: float = 1.0
+    steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE
+    module_diameter: float = SEA_MODULE_DIAMETER
+    rock_amp: float = 0.0
+    rock_phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        self.n_joints = check_int("n_joints", self.n_joints, 3, MAX_JOINTS)
+        self.steps_per_cycle = check_int("steps_per_cycle", self.steps_per_cycle, 2, MAX_STEPS)
+        self.module_length = check_positive("module_length", self.module_length, MAX_LENGTH)
+        self.module_diameter = check_positive("module_diameter", self.module_diameter, MAX_LENGTH)
+        self.radius = check_positive("radius", self.radius, MAX_LENGTH)
+        self.pitch = check_positive("pitch", self.pitch, MAX_LENGTH)
         if self.pitch < self.module_diameter:
             raise ValueError(
                 f"pitch must be at least one module diameter ({self.module_diameter} m) so that "
                 f"adjacent turns do not collide, got {self.pitch}"
             )
+        rolls_per_cycle = self.rolls_per_cycle
         self.rolls_per_cycle = check_range(
             "rolls_per_cycle", rolls_per_cycle, -MAX_ROLLS, MAX_ROLLS
         )
@@ -119,10 +124,11 @@ class Gait:
             raise ValueError(
                 f"rolls_per_cycle must be a whole number for a periodic gait, got {rolls_per_cycle}"
             )
+        rock_amp = self.rock_amp
         self.rock_amp = check_finite("rock_amp", rock_amp)
         if not 0.0 <= self.rock_amp <= np.pi:
             raise ValueError(f"rock_amp must be in [0, pi] rad, got {rock_amp}")
-        self.rock_phase = check_range("rock_phase", rock_phase, -2.0 * np.pi, 2.0 * np.pi)
+        self.rock_phase = check_range("rock_phase", self.rock_phase, -2.0 * np.pi, 2.0 * np.pi)
         self.joint_limit = JOINT_LIMIT
 
     @property
@@ -204,7 +210,7 @@ class RollingHelixGait(Gait):
     lateral joint ``j`` = A sin(phi_0 + tau l (j + 1)).
     """
 
-    # Its arguments are the shared ones (Gait.__init__); the closed form's constants follow.
+    # Its arguments are the shared ones (Gait's fields); the closed form's constants follow.
     @property
     def kappa(self) -> float:
         """Curvature of the helix (1/m)."""
@@ -237,6 +243,7 @@ class RollingHelixGait(Gait):
         return np.broadcast_to(pts, (len(np.atleast_1d(phases)), *pts.shape)).copy()
 
 
+@dataclass(eq=False, kw_only=True)
 class ACLGait(Gait):
     """Arboreal Concertina Locomotion: the pitch-varying helix of Eq. 1 by curvature integration.
 
@@ -261,50 +268,31 @@ class ACLGait(Gait):
             within about 2 ``rock_amp`` of the pole (docs/gait.md#roll-offset).
     """
 
-    def __init__(
-        self,
-        n_joints: int = DEFAULT_N_JOINTS,
-        module_length: float = SEA_MODULE_LENGTH,
-        radius: float = DEFAULT_RADIUS,
-        pitch: float = DEFAULT_PITCH,
-        amp_pitch: float = DEFAULT_AMP_PITCH,
-        spatial_freq: float = 2.0,
-        amp_radial: float = 0.0,
-        radial_freq: float = 2.0,
-        rolls_per_cycle: float = 1.0,
-        steps_per_cycle: int = DEFAULT_STEPS_PER_CYCLE,
-        module_diameter: float = SEA_MODULE_DIAMETER,
-        n_samples: int = 300,
-        rock_amp: float = 0.0,
-        rock_phase: float = 0.0,
-    ) -> None:
-        super().__init__(
-            n_joints,
-            module_length,
-            radius,
-            pitch,
-            rolls_per_cycle,
-            steps_per_cycle,
-            module_diameter,
-            rock_amp,
-            rock_phase,
-        )
-        amp_pitch = check_finite("amp_pitch", amp_pitch)
-        amp_radial = check_finite("amp_radial", amp_radial)
+    amp_pitch: float = DEFAULT_AMP_PITCH
+    spatial_freq: float = 2.0
+    amp_radial: float = 0.0
+    radial_freq: float = 2.0
+    n_samples: int = 300
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        amp_pitch = self.amp_pitch = check_finite("amp_pitch", self.amp_pitch)
+        amp_radial = self.amp_radial = check_finite("amp_radial", self.amp_radial)
         if not 0.0 <= amp_pitch <= MAX_LENGTH:
             raise ValueError(f"amp_pitch must be >= 0 and <= {MAX_LENGTH}, got {amp_pitch}")
         if not 0.0 <= amp_radial < self.radius:
             raise ValueError(f"amp_radial must be in [0, radius={self.radius}), got {amp_radial}")
-        n_samples = check_int("n_samples", n_samples, 100, MAX_SAMPLES)
+        self.n_samples = check_int("n_samples", self.n_samples, 100, MAX_SAMPLES)
+        self.spatial_freq = check_range("spatial_freq", self.spatial_freq, -MAX_WAVES, MAX_WAVES)
+        self.radial_freq = check_range("radial_freq", self.radial_freq, -MAX_WAVES, MAX_WAVES)
         self.curve = PitchVaryingHelix(
             radius=self.radius,
             pitch=self.pitch,
             amp_pitch=amp_pitch,
-            spatial_freq=check_range("spatial_freq", spatial_freq, -MAX_WAVES, MAX_WAVES),
+            spatial_freq=self.spatial_freq,
             amp_radial=amp_radial,
-            radial_freq=check_range("radial_freq", radial_freq, -MAX_WAVES, MAX_WAVES),
+            radial_freq=self.radial_freq,
         )
-        self.n_samples = int(n_samples)
         # One twist for the whole gait, decided on its keyframes: the quadrature of tau where the
         # grid resolves it (the table is then the one it always was), the normal's measured
         # turns where it does not (docs/gait.md#thin-poles). Deciding per gait, not per phase,

@@ -572,6 +572,27 @@ def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
     assert not np.array_equal(left, right)  # two different gaits
 
 
+def test_a_policy_is_judged_against_its_own_tasks_tuned_entries(tmp_path: Path) -> None:
+    """The robust task's policy plays against the gait and the grip tuned for the worst
+    conditions (``acl_sea_robust``, ``acl_sea_robust_grip``), not the nominal ones that its base
+    id would give; the SEA task's policy against the nominal ones."""
+    from acl_env import ACL_CLIMB_ROBUST_ID
+    from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    for env_id, key in ((ACL_CLIMB_ROBUST_ID, "acl_sea_robust"), (ACL_CLIMB_SEA_ID, "acl_sea")):
+        folder = PolicyFolder(tmp_path, env_id, {"env_kwargs": {}}, tmp_path / "m.zip", None)
+        controllers, notes = build_controllers(folder, {}, None, DEFAULT_TUNED_GAITS)
+        by_name = {c.name: c for c in controllers}
+        gait = tuned_gaits.gait_shape(key)
+        for name in ("open_loop_tuned", "compliant_acl"):
+            played = by_name[name].env_kwargs
+            assert {k: played[k] for k in gait} == gait, (env_id, name)
+        grip = tuned_gaits.grip(f"{key}_grip")
+        assert {k: by_name["compliant_acl"].env_kwargs[k] for k in grip} == grip, env_id
+        assert any(f"'{key}'" in note for note in notes), notes
+
+
 def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
     """Committed evaluation JSONs must not name the folder of the machine that wrote them."""
     from acl_env.evaluation.baselines import DEFAULT_POLICY, DEFAULT_TUNED_GAITS

@@ -200,6 +200,7 @@ class _Setting:
     acl_id: str
     acl_kwargs: dict[str, Any]
     sets_cadence: bool
+    task_id: str | None  # the policy's task, under its current id (None: no policy)
 
 
 def _setting(
@@ -241,8 +242,17 @@ def _setting(
     sets_cadence = (
         folder is not None and env_setting(policy_id, open_loop, "phase_rate_range") is not None
     )
+    task_id = None if folder is None else current_id(folder.env_id)
     return _Setting(
-        base, open_loop, other_gait, policy_id, task_kwargs, acl_id, acl_kwargs, sets_cadence
+        base,
+        open_loop,
+        other_gait,
+        policy_id,
+        task_kwargs,
+        acl_id,
+        acl_kwargs,
+        sets_cadence,
+        task_id,
     )
 
 
@@ -297,7 +307,9 @@ def _tuned(
     the policy's cadence, and the compliant grip's), or notes on why not."""
     non_rolling = is_non_rolling(at.acl_id, at.acl_kwargs)
     if tuned_key is None and is_elastic(at.acl_id, at.acl_kwargs):
-        tuned_key = sea_tuned_key(default_tuned_key(at.acl_id, non_rolling))
+        # The policy's task's entry (the robust task's is the gait tuned for the worst conditions,
+        # not the nominal one its base id would give), else the base id's.
+        tuned_key = sea_tuned_key(default_tuned_key(at.task_id or at.acl_id, non_rolling))
     weights = at.base.get("reward_weights")
     tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, at.acl_id)
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?

@@ -98,8 +98,9 @@ def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
 
 def sea_tuned_key(key: str) -> str:
     """The entry tuned on the series elastic actuators for the servo's entry ``key``: a gait is
-    compared with the best open loop on the same physics (``acl`` -> ``acl_sea``)."""
-    return key if key.endswith("_sea") else f"{key}_sea"
+    compared with the best open loop on the same physics (``acl`` -> ``acl_sea``; an entry tuned
+    on the SEA already, ``acl_sea_robust``, is itself)."""
+    return key if "sea" in key.split("_") else f"{key}_sea"
 
 
 # --- the tuned gait ------------------------------------------------------------------------------

@@ -16,7 +16,9 @@ joints through torsional springs, commands and sensors arrive late; :mod:`acl_en
 * ``acl_env/ACLClimbNoRollCompliant-v1``: ACLClimbNoRoll-v5's task on the compliant controller;
 * ``acl_env/ACLClimbRobust-v1``: ACLClimb-v3's task on the gait tuned for the worst quarter of a
   range of poles, frictions, springs and latencies, ``"acl_sea_robust"`` (its recipe trains over
-  that range: docs/tuning.md, docs/training.md).
+  that range: docs/tuning.md, docs/training.md);
+* ``acl_env/ACLClimbCompliantRobust-v1``: ACLClimbRobust-v1's task on the compliant controller,
+  with the grip tuned for the same conditions, ``"acl_sea_robust_grip"``.
 
 The same tasks on ideal position servos (``actuator_model="servo"``):
 
@@ -54,6 +56,7 @@ __version__ = "0.1.0"
 __all__ = [
     "ACL_CLIMB_BENCHMARK_ID",
     "ACL_CLIMB_COMPLIANT_ID",
+    "ACL_CLIMB_COMPLIANT_ROBUST_ID",
     "ACL_CLIMB_ID",
     "ACL_CLIMB_NOROLL_BENCHMARK_ID",
     "ACL_CLIMB_NOROLL_COMPLIANT_ID",
@@ -93,6 +96,7 @@ ACL_CLIMB_NOROLL_SEA_ID = "acl_env/ACLClimbNoRoll-v5"
 ACL_CLIMB_COMPLIANT_ID = "acl_env/ACLClimbCompliant-v1"
 ACL_CLIMB_NOROLL_COMPLIANT_ID = "acl_env/ACLClimbNoRollCompliant-v1"
 ACL_CLIMB_ROBUST_ID = "acl_env/ACLClimbRobust-v1"
+ACL_CLIMB_COMPLIANT_ROBUST_ID = "acl_env/ACLClimbCompliantRobust-v1"
 
 # The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
 # the open-loop tuner's best for this task's reward, entry "acl_noroll" of the shipped tuned gaits
@@ -147,6 +151,7 @@ BENCHMARK_BASES = {
     ACL_CLIMB_COMPLIANT_ID: ACL_CLIMB_ID,
     ACL_CLIMB_NOROLL_COMPLIANT_ID: ACL_CLIMB_NOROLL_ID,
     ACL_CLIMB_ROBUST_ID: ACL_CLIMB_ID,
+    ACL_CLIMB_COMPLIANT_ROBUST_ID: ACL_CLIMB_ID,
 }
 # The SEA tasks: the servo benchmark tasks with the series elastic actuators, each on the gait
 # the tuner found best on the SEA for its reward (entries "acl_sea", "acl_noroll_sea").
@@ -172,12 +177,20 @@ NOROLL_COMPLIANT_KWARGS = {
 # conditions (pole 0.055 / 0.1 m, friction 0.4 / 0.7 / 1.0, spring 12 / 28 N m/rad, latency 0 /
 # 0.2 s; a fall scoring worst), entry "acl_sea_robust" (acl-tune-gait --cvar 0.25).
 ROBUST_KWARGS = {**SEA_KWARGS, "tuned_gait": "acl_sea_robust"}
+# The robust compliant task: the robust task on the grip tuned for the worst quarter of the same
+# conditions, on the robust gait ("acl_sea_robust_grip", acl-tune-gait --grip --cvar 0.25).
+COMPLIANT_ROBUST_KWARGS = {
+    **ROBUST_KWARGS,
+    **tuned_gaits.grip("acl_sea_robust_grip"),
+    "grip_action_scale": 100.0,
+}
 
 _ENVS = {
     ACL_CLIMB_COMPLIANT_ID: COMPLIANT_KWARGS,
     ACL_CLIMB_NOROLL_COMPLIANT_ID: NOROLL_COMPLIANT_KWARGS,
     ACL_CLIMB_SEA_ID: SEA_KWARGS,
     ACL_CLIMB_ROBUST_ID: ROBUST_KWARGS,
+    ACL_CLIMB_COMPLIANT_ROBUST_ID: COMPLIANT_ROBUST_KWARGS,
     ACL_CLIMB_NOROLL_SEA_ID: NOROLL_SEA_KWARGS,
     ACL_CLIMB_BENCHMARK_ID: BENCHMARK_KWARGS,
     ACL_CLIMB_NOROLL_BENCHMARK_ID: NOROLL_BENCHMARK_KWARGS,

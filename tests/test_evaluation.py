@@ -766,6 +766,7 @@ def test_every_registered_task_has_its_baselines() -> None:
         "acl_env/ACLClimbCompliant-v1": "acl_sea",
         "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
         "acl_env/ACLClimbRobust-v1": "acl_sea_robust",
+        "acl_env/ACLClimbCompliantRobust-v1": "acl_sea_robust",
     }
     assert {env_id: tasks.task_baselines(env_id).tuned_key for env_id in ids} == expected
     # A gait given on the command line that rolls otherwise than its task's: the default entries.

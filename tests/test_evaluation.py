@@ -575,7 +575,8 @@ def test_video_shows_controllers_side_by_side(tmp_path: Path) -> None:
 def test_a_policy_is_judged_against_its_own_tasks_tuned_entries(tmp_path: Path) -> None:
     """The robust task's policy plays against the gait and the grip tuned for the worst
     conditions (``acl_sea_robust``, ``acl_sea_robust_grip``), not the nominal ones that its base
-    id would give; the SEA task's policy against the nominal ones."""
+    id would give; the SEA task's policy against the nominal ones. Each policy's gait is its
+    task's tuned one, so that gait at the policy's cadence is one controller, not two."""
     from acl_env import ACL_CLIMB_ROBUST_ID
     from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
     from acl_env.training.policy import PolicyFolder
@@ -591,6 +592,8 @@ def test_a_policy_is_judged_against_its_own_tasks_tuned_entries(tmp_path: Path) 
         grip = tuned_gaits.grip(f"{key}_grip")
         assert {k: by_name["compliant_acl"].env_kwargs[k] for k in grip} == grip, env_id
         assert any(f"'{key}'" in note for note in notes), notes
+        # its own gait is the tuned one: played once at its cadence, not twice
+        assert baselines.TUNED_SAME_CADENCE not in by_name, env_id
 
 
 def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:

@@ -54,6 +54,7 @@ from acl_env import (
     shipped,
     tuned_gaits,
 )
+from acl_env.envs.arguments import DEFAULTS
 from acl_env.envs.kwargs import make_quietly
 from acl_env.evaluation.open_loop import constant_cadence_policy, zero_policy
 from acl_env.evaluation.protocol import Policy
@@ -313,7 +314,10 @@ def _tuned(
     weights = at.base.get("reward_weights")
     tuned, note = tuned_gait(tuned_path, weights, non_rolling, tuned_key, at.acl_id)
     # Does the policy's own base gait equal the tuned one (then no separate own-gait open loop)?
-    on_tuned = tuned is not None and all(at.open_loop.get(k) == v for k, v in tuned[1].items())
+    # (an argument the entry states at its default, such as squeeze_slope 0, counts as unset)
+    on_tuned = tuned is not None and all(
+        at.open_loop.get(k, DEFAULTS.get(k)) == v for k, v in tuned[1].items()
+    )
     if on_tuned and at.sets_cadence:  # the policy's gait at its cadence is the tuned gait there
         controllers = [
             replace(c, label=LABELS[TUNED_SAME_CADENCE]) if c.name == SAME_CADENCE else c

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from functools import lru_cache
 from typing import Any
 
 import mujoco
@@ -18,6 +19,13 @@ START_CLEARANCE = 0.005  # m between shells and pole when the snake is placed
 START_HEIGHT = 0.3  # m from the floor to the lowest point of the snake at reset
 RAMP_TIME = 0.3  # s to ramp the squeeze in from the placed pose to the first keyframe
 SETTLE_TIME = 0.2  # s holding the first keyframe before the episode starts
+
+
+@lru_cache(maxsize=2)
+def _loose_gait(gait_type: type[Gait], items: tuple[tuple[str, Any], ...], radius: float) -> Gait:
+    """The gait with its helix loosened to ``radius``. Gaits are immutable, and every reset on one
+    pole tries the same radius first (:func:`clear_placement`): kept, it is not made again."""
+    return gait_type(**dict(items), radius=radius)
 
 
 def placed_qpos(
@@ -35,9 +43,9 @@ def placed_qpos(
     ``START_HEIGHT`` above the floor, turned by ``yaw`` (rad) about the pole, with
     ``joint_noise`` (rad) added to the joints and clipped to their limits; ``qpos0``: the model's
     initial ``qpos``."""
-    kwargs = {k: v for k, v in gait_kwargs.items() if k != "radius"}
+    items = tuple(sorted((k, v) for k, v in gait_kwargs.items() if k != "radius"))
     angles, rotation, translation = clear_placement(
-        lambda radius: gait_type(**kwargs, radius=radius),
+        lambda radius: _loose_gait(gait_type, items, radius),
         phase,
         contact_radius=pole_radius + SEA_MODULE_RADIUS,
         clearance=START_CLEARANCE,

@@ -58,12 +58,13 @@ class Record:
 
 def benchmark_record(name: str, policies: list[str]) -> Record:
     """``acl-benchmark`` of ``policies`` into ``docs/<name>.json`` and its figures (the heat maps
-    of each score and the performance profiles)."""
+    of each score and the performance profiles). An unfinished record resumes; one made with
+    other settings (by code whose controllers play otherwise) is made again."""
     scores = ("success_rate", "climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "profiles")
     return Record(
         (f"docs/{name}.json", *(f"docs/{name}_{score}.png" for score in scores)),
         f"acl-benchmark --policy {' '.join(policies)}"
-        f" --json docs/{name}.json --plots docs/{name}.png",
+        f" --json docs/{name}.json --plots docs/{name}.png --remake",
     )
 
 

@@ -3,6 +3,7 @@ the statistics over training seeds against SciPy."""
 
 from __future__ import annotations
 
+import copy
 import shutil
 from pathlib import Path
 
@@ -126,6 +127,19 @@ def test_a_finished_record_resumes_without_running_and_other_settings_are_refuse
     assert again["cells"] == acl_env.io.read_json(path)["cells"]
     with pytest.raises(bench.SettingsMismatch, match="other settings"):
         bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, (0, 1, 2), path)
+    # A record whose analytic controllers were other gaits (made by other code) is refused too,
+    # and with remake made again from the start: every cell is run.
+    stale = copy.deepcopy(record)
+    stale["settings"]["controllers"]["open_loop_tuned"]["env_kwargs"]["squeeze"] = 0.0
+    acl_env.io.write_json(path, stale)
+    with pytest.raises(bench.SettingsMismatch, match="analytic controllers"):
+        bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, SEEDS, path)
+    ran: list[dict] = []
+    monkeypatch.setattr(bench, "run_cell", lambda *a, **k: ran.append(a[1]) or ({}, {}))
+    made = bench.run_benchmark(
+        acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, SEEDS, path, remake=True
+    )
+    assert len(ran) == len(TWO_CELLS.cells()) and made["settings"] == record["settings"]
 
 
 def test_policies_of_one_folder_name_are_refused(two_policies: list[Path]) -> None:
@@ -250,10 +264,10 @@ def test_acl_evaluate_and_acl_compare_over_training_seeds(
     assert entry["iqm_difference"]["mean"] == 0.0
 
 
-def test_an_event_is_a_cell_and_grids_without_events_resume_their_records() -> None:
-    """The robust grid's friction step is its last cell, held out, in the record's settings;
-    the settings of a grid without events read as before, so the published SEA record still
-    resumes."""
+def test_an_event_is_a_cell_and_the_published_records_are_todays() -> None:
+    """The robust grid's friction step is its last cell, held out, in the record's settings.
+    Each published record's settings, its analytic controllers included, are those its command
+    makes with the code as it is: the record is what that command would write today."""
     from acl_env.benchmark.run import settings
     from acl_env.io import read_json
 
@@ -264,15 +278,16 @@ def test_an_event_is_a_cell_and_grids_without_events_resume_their_records() -> N
     assert robust.env_kwargs(last) == {"friction_step": 0.5}
     made = settings(ACL_CLIMB_ROBUST_ID, [], robust, [0], root / "acl_env/data/tuned_gaits.json")
     assert made["events"] == [{"friction_step": 0.5}]
-    published = read_json(root / "docs/benchmark_sea.json")["settings"]
-    again = settings(
-        published["task"],
-        [root / p for p in published["policies"]],
-        grids.grid_for(published["task"]),
-        published["seeds"],
-        root / published["tuned_gaits"],
-    )
-    assert again == published
+    for name in ("benchmark_sea", "benchmark_robust"):
+        published = read_json(root / f"docs/{name}.json")["settings"]
+        again = settings(
+            published["task"],
+            [root / p for p in published["policies"]],
+            grids.grid_for(published["task"]),
+            published["seeds"],
+            root / published["tuned_gaits"],
+        )
+        assert again == published, name
 
 
 def test_heat_maps_draw_the_events_in_a_column_of_their_own(record: dict, tmp_path: Path) -> None:

@@ -64,6 +64,12 @@ def make_parser() -> cli.ArgumentParser:
         help="figures: FILE's stem + _<score> for each score's heat maps, + _profiles for the "
         "performance profiles",
     )
+    parser.add_argument(
+        "--remake",
+        action="store_true",
+        help="a record at --json made with other settings (another version's controllers, "
+        "grid or policies) is made again from the start, instead of refused",
+    )
     cli.add_workers(parser, 2, "processes running episodes (default 2)")
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
@@ -101,7 +107,14 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     try:
         with tqdm(total=len(cells), desc="cells", unit="cell", disable=args.no_progress_bar) as bar:
             record = run_benchmark(
-                task, args.policy, grid, seeds, args.json, pool, on_cell=lambda _: bar.update()
+                task,
+                args.policy,
+                grid,
+                seeds,
+                args.json,
+                pool,
+                on_cell=lambda _: bar.update(),
+                remake=args.remake,
             )
     except SettingsMismatch as error:
         parser.error(f"argument --json: {error}")

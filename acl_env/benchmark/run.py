@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from acl_env.benchmark.grid import Cell, Grid
-from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS
+from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
 from acl_env.evaluation.protocol import Episode
 from acl_env.evaluation.runner import evaluate, policies_controllers
 from acl_env.evaluation.tasks import shown_path
@@ -76,10 +76,25 @@ def run_cell(
     return {name: cell_result(episodes) for name, episodes in results.items()}, labels
 
 
+def controller_table(policies: Sequence[Path], tuned_path: Path) -> dict[str, dict[str, Any]]:
+    """What each analytic controller is at the task's defaults: the env it plays, its keyword
+    arguments, and an open loop's cadence (the policy's in a cell, for those at its cadence)."""
+    if policies:
+        controllers, _ = policies_controllers(policies, {}, tuned_path)
+    else:
+        controllers, _ = build_controllers(None, {}, None, tuned_path)
+    return {
+        c.name: {"env_id": c.env_id, "env_kwargs": c.env_kwargs, "phase_rate": c.phase_rate}
+        for c in controllers
+        if c.policy_dir is None
+    }
+
+
 def settings(
     task: str, policies: Sequence[Path], grid: Grid, seeds: Sequence[int], tuned_path: Path
 ) -> dict[str, Any]:
-    """What a record was made with, as its JSON reads back: a resumed run must match it."""
+    """What a record was made with, as its JSON reads back: a resumed run must match it, its
+    analytic controllers included (code that plays other gaits does not resume its record)."""
     return jsonable(
         {
             "task": task,
@@ -93,6 +108,7 @@ def settings(
             "fixed": dict(grid.fixed),
             # only where there are events: the records of grids without them read as before
             **({"events": [dict(c.kwargs) for c in grid.events]} if grid.events else {}),
+            "controllers": controller_table(policies, tuned_path),
         }
     )
 
@@ -106,20 +122,24 @@ def run_benchmark(
     pool: Executor | None = None,
     tuned_path: Path = DEFAULT_TUNED_GAITS,
     on_cell: Callable[[Cell], None] | None = None,
+    remake: bool = False,
 ) -> dict[str, Any]:
     """Play every cell of ``grid`` not yet in the record at ``record_path`` (one made with the
-    same :func:`settings`; :class:`SettingsMismatch` if it was made with others), writing it after
-    each cell; return it. ``on_cell`` is called after each cell (a progress bar)."""
+    same :func:`settings`; one made with others is :class:`SettingsMismatch`, or with ``remake``
+    made again from the start), writing it after each cell; return it. ``on_cell`` is called
+    after each cell (a progress bar)."""
     wanted = settings(task, policies, grid, seeds, tuned_path)
     record: dict[str, Any] = {"format": FORMAT, "settings": wanted, "labels": {}, "cells": {}}
     if record_path.is_file():
         previous = read_json(record_path)
-        if previous.get("format") != FORMAT or previous.get("settings") != wanted:
+        if previous.get("format") == FORMAT and previous.get("settings") == wanted:
+            record = previous
+        elif not remake:
             raise SettingsMismatch(
-                f"{record_path} was made with other settings (task, policies, seeds, grid or "
-                "tuned gaits): give another --json path, or remove it to start again"
+                f"{record_path} was made with other settings (task, policies, seeds, grid, tuned "
+                "gaits or analytic controllers): give another --json path, or remove it to start "
+                "again (--remake)"
             )
-        record = previous
     for cell in grid.cells():
         if cell.key not in record["cells"]:
             controllers, labels = run_cell(policies, grid.env_kwargs(cell), seeds, pool, tuned_path)

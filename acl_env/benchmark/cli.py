@@ -21,7 +21,7 @@ from tqdm import tqdm
 
 from acl_env import cli, current_id, shipped
 from acl_env.benchmark.figures import TITLES, plot_heat_maps, plot_profiles
-from acl_env.benchmark.grid import grid_for
+from acl_env.benchmark.grid import Grid, grid_for
 from acl_env.benchmark.run import SettingsMismatch, run_benchmark
 from acl_env.benchmark.summary import limits, summarize_benchmark
 from acl_env.evaluation.baselines import read_policy
@@ -103,26 +103,12 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
             parser.error(f"argument --json: {error}")
     seeds = [args.seed + i for i in range(args.episodes)]
     cells = grid.cells()
-    pool = make_pool(args.workers)
     try:
-        with tqdm(total=len(cells), desc="cells", unit="cell", disable=args.no_progress_bar) as bar:
-            record = run_benchmark(
-                task,
-                args.policy,
-                grid,
-                seeds,
-                args.json,
-                pool,
-                on_cell=lambda _: bar.update(),
-                remake=args.remake,
-            )
+        record = _play(args, task, grid, seeds)
     except SettingsMismatch as error:
         parser.error(f"argument --json: {error}")
     except PolicySetError as error:
         parser.error(f"argument --policy: {error}")
-    finally:
-        if pool is not None:
-            pool.shutdown()
     summary = summarize_benchmark(record)
     record["summary"] = {
         "all": summary,
@@ -144,6 +130,27 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     print(json.dumps(jsonable(record["summary"]["all"]["scores"]), indent=1))
     print_limits(record["summary"]["limits"], len(cells))
     return record
+
+
+def _play(args: Any, task: str, grid: Grid, seeds: list[int]) -> dict[str, Any]:
+    """The cells still to play, in ``args.workers`` processes, behind a progress bar."""
+    pool = make_pool(args.workers)
+    bar = tqdm(total=len(grid.cells()), desc="cells", unit="cell", disable=args.no_progress_bar)
+    try:
+        return run_benchmark(
+            task,
+            args.policy,
+            grid,
+            seeds,
+            args.json,
+            pool,
+            on_cell=lambda _: bar.update(),
+            remake=args.remake,
+        )
+    finally:
+        bar.close()
+        if pool is not None:
+            pool.shutdown()
 
 
 def print_limits(found: dict[str, Any], cells: int) -> None:

@@ -12,6 +12,7 @@ import os
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
+import argparse
 import json
 from collections.abc import Sequence
 from pathlib import Path
@@ -132,7 +133,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     return record
 
 
-def _play(args: Any, task: str, grid: Grid, seeds: list[int]) -> dict[str, Any]:
+def _play(args: argparse.Namespace, task: str, grid: Grid, seeds: list[int]) -> dict[str, Any]:
     """The cells still to play, in ``args.workers`` processes, behind a progress bar."""
     pool = make_pool(args.workers)
     bar = tqdm(total=len(grid.cells()), desc="cells", unit="cell", disable=args.no_progress_bar)

@@ -24,7 +24,9 @@ SETTLE_TIME = 0.2  # s holding the first keyframe before the episode starts
 @lru_cache(maxsize=2)
 def _loose_gait(gait_type: type[Gait], items: tuple[tuple[str, Any], ...], radius: float) -> Gait:
     """The gait with its helix loosened to ``radius``. Gaits are immutable, and every reset on one
-    pole tries the same radius first (:func:`clear_placement`): kept, it is not made again."""
+    pole tries the same radius first (:func:`clear_placement`): kept, it is not made again. Apart
+    from the env's :func:`~acl_env.envs.gait_config.cached_gait`, which makes each gait's keyframe
+    table: placing the snake needs one keyframe, and two loose gaits are all worth keeping."""
     return gait_type(**dict(items), radius=radius)
 
 

@@ -98,14 +98,14 @@ def default_tuned_key(env_id: str | None, non_rolling: bool) -> str:
 
 # The word that names the entries tuned on the series elastic actuators (acl_sea, acl_noroll_sea,
 # acl_sea_robust): a tuned-gaits naming convention, not an actuator model.
-SEA_ENTRY = "_sea"
+SEA_ENTRY = "sea"
 
 
 def sea_tuned_key(key: str) -> str:
     """The entry tuned on the series elastic actuators for the servo's entry ``key``: a gait is
     compared with the best open loop on the same physics (``acl`` -> ``acl_sea``; an entry tuned
     on the SEA already, ``acl_sea_robust``, is itself)."""
-    return key if f"{SEA_ENTRY}_" in f"{key}_" else f"{key}{SEA_ENTRY}"
+    return key if SEA_ENTRY in key.split("_") else f"{key}_{SEA_ENTRY}"
 
 
 # --- the tuned gait ------------------------------------------------------------------------------

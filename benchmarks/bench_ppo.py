@@ -6,6 +6,11 @@ all alike, and prints the median env steps/s per variant with the breakdown that
 records in ``summary.json``: stepping the envs (workers + transfer), policy inference, the rest
 of the rollout (buffer, callbacks, advantages), gradient updates, other (logging, checkpoints).
 
+Each round also times one core's raw physics of the task (``--raw-env``, default the shipped
+SEA task): ``bench_env.py``'s replay of ``--raw-steps`` env steps, the same ``mj_step`` calls from
+the same states with nothing else. The whole loop's rate is reported against it, both medians of
+the same run.
+
     python benchmarks/bench_ppo.py                                  # shipped config, 20k steps
     python benchmarks/bench_ppo.py --steps 20000 --rounds 3 \\
         --variant "2 envs=--n-envs 2 --hyperparams n_steps:1024" --variant "shipped="
@@ -19,6 +24,9 @@ import statistics
 import tempfile
 from pathlib import Path
 
+from bench_env import env_vs_raw  # this folder's: the script's directory is on the path
+
+from acl_env import ACL_CLIMB_SEA_ID
 from acl_env.io import read_json
 from acl_env.scripts import make_parser
 from acl_env.training import trainer
@@ -44,15 +52,25 @@ def main() -> None:
         metavar="NAME=ARGS",
         help="extra acl-train arguments; default: the shipped config alone",
     )
+    parser.add_argument("--raw-env", default=ACL_CLIMB_SEA_ID, help="task of the raw physics")
+    parser.add_argument("--raw-steps", type=int, default=400, help="raw physics steps per round")
     args = parser.parse_args()
     variants = dict(v.split("=", 1) for v in (args.variant or ["shipped="]))
     results: dict[str, list[dict]] = {name: [] for name in variants}
+    raw: list[float] = []  # one core's raw physics, env steps/s
     with tempfile.TemporaryDirectory() as tmp:
         for round_ in range(args.rounds):
             for name, extra in variants.items():
                 segment = run_once(shlex.split(extra), args.steps, Path(tmp) / name)
                 results[name].append(segment)
                 print(f"round {round_} {name}: {segment['env_steps_per_s']:.0f} env steps/s")
+            raw.append(1e3 / env_vs_raw(args.raw_steps, 1, args.raw_env)["raw_physics_ms"])
+            print(f"round {round_} raw physics of {args.raw_env}, one core: {raw[-1]:.0f} steps/s")
+    raw_rate = statistics.median(raw)
+    print(f"\none core's raw physics: {raw_rate:.0f} env steps/s (median of rounds)")
+    for name, segments in results.items():
+        rate = statistics.median(s["env_steps_per_s"] for s in segments)
+        print(f"{name}: {rate:.0f} env steps/s, {rate / raw_rate:.2f}x one core's raw physics")
     print(f"\n{'variant':<28} {'steps/s':>8} " + " ".join(f"{p:>16}" for p in PARTS))
     for name, segments in results.items():
         rate = statistics.median(s["env_steps_per_s"] for s in segments)

@@ -3,13 +3,21 @@ against the worlds' raw physics.
 
 ``python benchmarks/bench_vector.py [--env ID] [--worlds 16] [--steps 40] [--rounds 5] [--json F]``
 
-Three things are timed in interleaved rounds (A, B, C, A, B, C, ...), each over ``--steps`` steps
-of ``--worlds`` worlds with a zero action, and reported as the median over ``--rounds``:
+Three things are timed in interleaved rounds, each over ``--steps`` steps of ``--worlds`` worlds
+with a zero action from the same reset (``seed=0``), and reported as the median over
+``--rounds``:
 
-* ``raw``: the worlds' physics alone, one after the other on one thread: for each world, the
-  ``mj_step`` calls of one env step (``SLIP_SAMPLES`` x ``nstep=substeps``) and nothing else;
-* ``threads_1``: :class:`acl_env.envs.vector.ACLClimbVectorEnv` on one thread;
-* ``threads_2``: the same on two threads.
+* ``threads_1``: :class:`acl_env.envs.vector.ACLClimbVectorEnv` on one thread; the command each
+  world's step sent to its motors is recorded (outside the timed steps);
+* ``raw``: the same worlds' physics alone, replayed: every world is put back in the state it had
+  before those steps, and for each step and world the recorded command is written to ``ctrl``
+  and the ``mj_step`` calls of one env step (``SLIP_SAMPLES`` x ``nstep=substeps``) run, nothing
+  else. The replay ends in the state the vector env reached, bit for bit (checked): the same
+  trajectories, so the same contacts and solver work;
+* ``threads_2``: the vector env on two threads.
+
+Only ids whose command is constant over a step replay this way (no compliant grip, whose
+firmware changes the command at every tick); the check refuses the others.
 
 Reported: world steps per second of each, the vector env's cost per world step over the raw
 physics' (1 thread), the speed-up of 2 threads over 1, and Amdahl's law fitted to it: the serial
@@ -33,17 +41,42 @@ from acl_env import ACL_CLIMB_SEA_ID
 from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.scripts import make_parser, write_outputs
 
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION  # qpos, qvel, act, ctrl, warm start, histories
 
-def time_raw(envs: list[Any], steps: int) -> float:
-    """Seconds for ``steps`` env steps' worth of raw physics of every world (``envs``: the vector
-    env's worlds, whose states it advances)."""
-    substeps = envs[0].frame_skip // SLIP_SAMPLES
-    start = time.perf_counter()
+
+def time_recorded(env: Any, steps: int) -> tuple[float, list[np.ndarray]]:
+    """Seconds for ``steps`` steps of the vector env ``env`` with a zero action, and every
+    world's motor command at each step (copied outside the timed steps)."""
+    action = np.zeros(env.action_space.shape, dtype=np.float32)
+    elapsed, commands = 0.0, []
     for _ in range(steps):
-        for env in envs:
+        start = time.perf_counter()
+        env.step(action)
+        elapsed += time.perf_counter() - start
+        commands.append(np.stack([world.data.ctrl.copy() for world in env.envs]))
+    return elapsed, commands
+
+
+def time_raw(envs: list[Any], states: list[np.ndarray], commands: list[np.ndarray]) -> float:
+    """Seconds for the raw physics of the recorded steps: each world set back to its saved
+    ``states``, then per step and world the recorded command and the env step's ``mj_step``
+    calls. Raises if the replay does not end where the env did (the trajectories differ)."""
+    model = envs[0].model
+    substeps = envs[0].frame_skip // SLIP_SAMPLES
+    ends = saved_states(envs)
+    for world, state in zip(envs, states, strict=True):
+        mujoco.mj_setState(model, world.data, state, STATE)
+    start = time.perf_counter()
+    for command in commands:
+        for world, ctrl in zip(envs, command, strict=True):
+            world.data.ctrl[:] = ctrl
             for _ in range(SLIP_SAMPLES):
-                mujoco.mj_step(env.model, env.data, nstep=substeps)
-    return time.perf_counter() - start
+                mujoco.mj_step(model, world.data, nstep=substeps)
+    elapsed = time.perf_counter() - start
+    replayed = saved_states(envs)
+    if not all(np.array_equal(a, b) for a, b in zip(ends, replayed, strict=True)):
+        raise RuntimeError("the raw replay left the vector env's trajectory (a grip task?)")
+    return elapsed
 
 
 def time_vector(env: Any, steps: int) -> float:
@@ -55,18 +88,30 @@ def time_vector(env: Any, steps: int) -> float:
     return time.perf_counter() - start
 
 
+def saved_states(envs: list[Any]) -> list[np.ndarray]:
+    """Every world's integration state (``STATE``)."""
+    model = envs[0].model
+    states = [np.empty(mujoco.mj_stateSize(model, STATE)) for _ in envs]
+    for world, state in zip(envs, states, strict=True):
+        mujoco.mj_getState(model, world.data, state, STATE)
+    return states
+
+
 def measure(env_id: str, worlds: int, steps: int, rounds: int) -> dict[str, Any]:
     """The interleaved rounds (module docstring); world steps per second, medians."""
     vectors = {t: gym.make_vec(env_id, num_envs=worlds, threads=t) for t in (1, 2)}
-    raw_env = gym.make_vec(env_id, num_envs=worlds, threads=1)
-    for env in (*vectors.values(), raw_env):
-        env.reset(seed=0)
     samples: dict[str, list[float]] = {"raw": [], "threads_1": [], "threads_2": []}
-    for _ in tqdm(range(rounds), desc="rounds"):
-        samples["raw"].append(worlds * steps / time_raw(raw_env.envs, steps))
-        for t, env in vectors.items():
-            samples[f"threads_{t}"].append(worlds * steps / time_vector(env, steps))
-    for env in (*vectors.values(), raw_env):
+    for r in tqdm(range(rounds), desc="rounds"):
+        for t in (1, 2) if r % 2 == 0 else (2, 1):  # alternate which goes first
+            vectors[t].reset(seed=0)
+            if t == 2:
+                samples["threads_2"].append(worlds * steps / time_vector(vectors[2], steps))
+                continue
+            states = saved_states(vectors[1].envs)
+            elapsed, commands = time_recorded(vectors[1], steps)
+            samples["threads_1"].append(worlds * steps / elapsed)
+            samples["raw"].append(worlds * steps / time_raw(vectors[1].envs, states, commands))
+    for env in vectors.values():
         env.close()
     rate = {k: statistics.median(v) for k, v in samples.items()}
     return {

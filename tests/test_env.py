@@ -26,6 +26,8 @@ from acl_env.constants import (
     joint_name,
 )
 from acl_env.envs import ACLClimbEnv
+from acl_env.envs import observations as layouts
+from acl_env.envs.observations import PRIVILEGED
 from acl_env.gait import ACLGait
 from acl_env.gait.kinematics import (
     clear_placement,
@@ -422,19 +424,60 @@ def test_randomized_pole_radius_equals_configured_pole() -> None:
     assert info_a["climb"] == pytest.approx(info_b["climb"], abs=1e-12)
 
 
-def test_privileged_obs_is_centre_of_mass_state() -> None:
+def test_privileged_obs_is_centre_of_mass_state_and_the_physics() -> None:
     env = ACLClimbEnv(privileged_obs=True)
     obs, info = env.reset(seed=0)
-    assert obs.shape == (95,)
-    assert obs[-4] == pytest.approx(info["com_height"])
+    assert obs.shape == (99,)
+    assert obs[-8] == pytest.approx(info["com_height"])
     heights = []
     for _ in range(3):
         obs, *_, info = env.step(np.zeros(20))
         heights.append(info["com_height"])
     mujoco.mj_subtreeVel(env.model, env.data)
-    np.testing.assert_allclose(obs[-3:], env.data.subtree_linvel[1], atol=1e-12)
+    np.testing.assert_allclose(obs[-7:-4], env.data.subtree_linvel[1], atol=1e-12)
     # The velocity is the centre of mass's: about 0.2 m per 22 s cycle upward, not a link's.
-    assert abs(obs[-1]) < 0.05
+    assert abs(obs[-5]) < 0.05
+    # friction, pole radius, stiffness, latency: this episode's, drawn or set
+    np.testing.assert_array_equal(obs[-4:], [1.0, 0.075, 20.0, 0.0])
+    env = ACLClimbEnv(
+        privileged_obs=True,
+        actuator_model="sea",
+        control_latency=0.05,
+        friction_step=0.4,
+        domain_randomization={"pole_radius": (0.06, 0.1), "spring_stiffness": (12.0, 28.0)},
+    )
+    obs, _ = env.reset(seed=3)
+    model, pole = env.model, env._elements.pole_geom
+    radius, stiffness = obs[-3], obs[-2]
+    assert radius == model.geom_size[pole, 0] and 0.06 <= radius <= 0.1 and radius != 0.075
+    assert 12.0 <= stiffness <= 28.0 and stiffness != 20.0
+    assert obs[-1] == 0.05
+    frictions = {float(env.step(np.zeros(20))[0][-4]) for _ in range(440)}
+    assert frictions == {1.0, 0.4}  # the friction step, when it comes
+
+
+def test_obs_history_carries_the_last_steps_readings_before_the_privileged_block() -> None:
+    """``obs_history=2``: the readings (joints, IMU, with their noise) of the last two steps,
+    newest first, each the reset's at reset; then the privileged block, last."""
+    env = ACLClimbEnv(obs_history=2, privileged_obs=True, domain_randomization=True)
+    names = layouts.env_observation_names(env)
+    sensed = len(layouts.sensed_names(20))
+    first, second = names.index("angle_0_prev1"), names.index("angle_0_prev2")
+    assert second == first + sensed and names[-10:] == PRIVILEGED
+    assert names[first + sensed - 1] == "gyro_z_prev1"
+    frames = [env.reset(seed=0)[0]]
+    for _ in range(3):
+        frames.append(env.step(np.zeros(20))[0])
+    now = [f[:sensed] for f in frames]
+    np.testing.assert_array_equal(frames[0][first:second], now[0])
+    np.testing.assert_array_equal(frames[0][second : second + sensed], now[0])
+    for t in (2, 3):
+        np.testing.assert_array_equal(frames[t][first:second], now[t - 1])
+        np.testing.assert_array_equal(frames[t][second : second + sensed], now[t - 2])
+    assert not np.array_equal(now[1], now[2])
+    plain = ACLClimbEnv(privileged_obs=True, domain_randomization=True)
+    obs, _ = plain.reset(seed=0)  # the option adds entries, and changes nothing else
+    np.testing.assert_array_equal(obs, np.concatenate([frames[0][:first], frames[0][-10:]]))
 
 
 def test_energy_is_absolute_actuator_work() -> None:

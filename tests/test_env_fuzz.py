@@ -88,6 +88,7 @@ INTS: dict[str, tuple[list[Any], bool]] = {
     "width": ([0, 4097, -1, 64.0], False),
     "height": ([0, 4097, -1, 48.0], False),
     "modulation_sections": ([0, 5, -1, 2.0], True),  # at most n_joints (4 here)
+    "obs_history": ([9, -1, 1.0, True], False),
 }
 
 

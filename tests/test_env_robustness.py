@@ -85,6 +85,7 @@ CONFIGS = {
         "domain_randomization": True,
         "phase_rate_range": (0.5, 1.5),
         "privileged_obs": True,
+        "obs_history": 2,
         "base_gait": "rolling_helix",
     },
 }

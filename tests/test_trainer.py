@@ -284,6 +284,56 @@ def test_layer_norm_critic_normalises_only_the_critic() -> None:
     assert [type(m) for m in normed.policy_net] == [type(m) for m in plain.policy_net]
 
 
+def test_asymmetric_critic_hides_the_privileged_block_from_the_actor(tmp_path: Path) -> None:
+    """The actor's weights on the privileged entries stay exactly zero through training, saving,
+    loading and export (its actions ignore them), while the critic reads them."""
+    from acl_env import pretrained
+    from acl_env.envs.observations import PRIVILEGED
+    from acl_env.evaluation import export
+    from acl_env.training.networks import AsymmetricCriticPolicy
+
+    path = "acl_env.training.networks.AsymmetricCriticPolicy"
+    extra = ("--hyperparams", f"policy:{path}", "--env-kwargs", "privileged_obs:true")
+    run_dir = run(tiny_argv(tmp_path, 2 * ROLLOUT, *extra))
+    model, _, _ = load(run_dir)
+    policy = model.policy
+    assert isinstance(policy, AsymmetricCriticPolicy) and policy.critic_only == len(PRIVILEGED)
+    first = policy.mlp_extractor.policy_net[0].weight.detach()
+    hidden = len(PRIVILEGED)
+    assert torch.count_nonzero(first[:, -hidden:]) == 0
+    assert torch.count_nonzero(first[:, :-hidden]) == first[:, :-hidden].numel()
+    critic = policy.mlp_extractor.value_net[0].weight.detach()
+    assert torch.count_nonzero(critic[:, -hidden:]) == critic[:, -hidden:].numel()
+    obs = torch.zeros((2, first.shape[1]))
+    obs[1, -hidden:] = 3.0  # only the privileged entries differ
+    with torch.no_grad():
+        actions = policy.get_distribution(obs).distribution.mean
+        values = policy.predict_values(obs)
+    assert torch.equal(actions[0], actions[1]) and values[0] != values[1]
+    export.export_policy(run_dir, tmp_path / "exported", "asym", trust_pickles=True)
+    exported = pretrained.load_policy(tmp_path / "exported")
+    raw = np.zeros(first.shape[1])
+    changed = raw.copy()
+    changed[-hidden:] = [0.1, 0.2, 1.5, 0.6, 0.7, 0.8, 0.4, 0.1, 12.0, 0.2]
+    np.testing.assert_array_equal(exported(raw), exported(changed))
+
+
+def test_asymmetric_critic_rezeroes_loaded_weights_and_names_a_bad_critic_only() -> None:
+    from acl_env.training.networks import AsymmetricCriticPolicy
+
+    kwargs = {"n_steps": 64, "batch_size": 64, "seed": 0, "device": "cpu"}
+    model = PPO(AsymmetricCriticPolicy, "Pendulum-v1", policy_kwargs={"critic_only": 1}, **kwargs)
+    state = model.policy.state_dict()
+    state["mlp_extractor.policy_net.0.weight"][:] = 1.0
+    model.policy.load_state_dict(state)
+    weight = model.policy.mlp_extractor.policy_net[0].weight
+    assert torch.all(weight[:, -1] == 0) and torch.all(weight[:, :-1] == 1)
+    with pytest.raises(ValueError, match="critic_only=3 hides every one"):
+        PPO(AsymmetricCriticPolicy, "Pendulum-v1", policy_kwargs={"critic_only": 3}, **kwargs)
+    with pytest.raises(ValueError, match="critic_only"):
+        PPO(AsymmetricCriticPolicy, "Pendulum-v1", policy_kwargs={"critic_only": 0}, **kwargs)
+
+
 def test_critic_warmup_freezes_the_actor_then_lets_it_learn() -> None:
     """Updates up to ``steps`` change the critic only (actor weights and log_std bit-identical,
     KL 0); the first update after them changes the actor."""
@@ -590,7 +640,9 @@ class AtTrainingStart(BaseCallback):
 
     def _on_training_start(self) -> None:
         self.params = policy_params(self.model)
-        self.obs_rms = copy.deepcopy(self.model.get_vec_normalize_env().obs_rms)
+        normalize = self.model.get_vec_normalize_env()
+        self.obs_rms = copy.deepcopy(normalize.obs_rms)
+        self.first_obs = normalize.get_original_obs().copy()  # the resets' observations
 
     def _on_step(self) -> bool:
         return True
@@ -631,26 +683,35 @@ def test_init_from_starts_as_the_trained_policy_with_new_actions_at_zero(
 def test_init_from_carries_over_to_an_env_that_observes_more(
     complete_run: Path, tmp_path: Path
 ) -> None:
-    """New observations (here the privileged centre of mass) start with zero input weights and
-    unit statistics: the warm-started policy first acts as the trained one; the shared
-    observations keep their columns and statistics."""
+    """New observations (here the privileged block) start with zero input weights and unit
+    statistics: the warm-started policy first acts as the trained one; the shared observations
+    keep their columns and statistics."""
+    from acl_env.envs.observations import PRIVILEGED
+
     start = AtTrainingStart()
     run(tiny_argv(tmp_path, 128, "--trust-pickles", "--init-from", str(complete_run),
                   "--env-kwargs", "privileged_obs:true"), start)  # fmt: skip
     trained, stats, _ = load(complete_run)
     source = policy_params(trained)
-    n_old = stats.obs_rms.mean.size  # 89: the new env appends 6 (envs/observations.py)
+    n_old, n_new = stats.obs_rms.mean.size, len(PRIVILEGED)  # the new env appends the block
     for key in ("mlp_extractor.policy_net.0.weight", "mlp_extractor.value_net.0.weight"):
         weight = start.params[key]
-        assert weight.shape[1] == n_old + 6
+        assert weight.shape[1] == n_old + n_new
         assert torch.equal(weight[:, :n_old], source[key]) and not weight[:, n_old:].any()
     assert torch.equal(start.params["action_net.weight"], source["action_net.weight"])
     # the statistics before the first reset's 2 observations: carried over, new at 0 and 1
     count = stats.obs_rms.count
-    assert start.obs_rms.mean.size == n_old + 6 and start.obs_rms.count == pytest.approx(count + 2)
+    assert start.obs_rms.mean.size == n_old + n_new
+    assert start.obs_rms.count == pytest.approx(count + 2)
     assert np.allclose(start.obs_rms.mean[:n_old], stats.obs_rms.mean, atol=0.5)
-    assert np.allclose(start.obs_rms.mean[n_old:], 0.0, atol=0.1)  # 2 of count + 2 samples
-    assert np.allclose(start.obs_rms.var[n_old:], 1.0, atol=0.1)
+    com = slice(n_old, n_old + 6)
+    assert np.allclose(start.obs_rms.mean[com], 0.0, atol=0.1)  # 2 of count + 2 samples
+    assert np.allclose(start.obs_rms.var[com], 1.0, atol=0.1)
+    # the physics entries (friction, radius, stiffness, latency, as each env drew them): the
+    # mean moved from 0 by the two resets' values over count + 2
+    expected = start.first_obs[:, -4:].sum(axis=0) / (count + 2)
+    np.testing.assert_allclose(start.obs_rms.mean[-4:], expected, rtol=1e-9, atol=1e-12)
+    assert (start.first_obs[:, -4:-1] > 0).all()
 
 
 INIT_FROM_CASES = [

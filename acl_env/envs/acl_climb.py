@@ -66,9 +66,10 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
 
     ## Observation Space
     What the robot senses (float64): joint angles, velocities and torques, the head IMU, the
-    gait's phase and its next targets, then the compliant grip's state (``grip_target``) and the
-    centre of mass (``privileged_obs``). Declared once, with sizes and units, in
-    :func:`acl_env.envs.observations.observation_layout`; ``docs/environments.md`` shows it.
+    gait's phase and its next targets, then the compliant grip's state (``grip_target``), past
+    readings (``obs_history``) and what only a simulator knows (``privileged_obs``). Declared
+    once, with sizes and units, in :func:`acl_env.envs.observations.observation_layout`;
+    ``docs/environments.md`` shows it.
 
     ## Rewards
     The sum of ``reward_<term> = +-w_<term> * <term>``, weights ``reward_weights``: ``climb`` (+),
@@ -181,12 +182,11 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._roll = termination.RollSpan.begin(np.zeros(n + 1))  # set by each reset
         self._imu_view = sensor_indices(self.model, IMU_QUAT_SENSOR, IMU_GYRO_SENSOR)
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
+        self._history = layouts.ReadingHistory(config.episode.obs_history, n)
         self._table = self._gait_table()
         self._offset_tables = self._gait_offset_tables(physics.pole_radius)
-        self._step_count = 0
-        self._k0 = 0
+        self._step_count, self._k0, self._com_start = 0, 0, 0.0
         self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
-        self._com_start = 0.0
 
     def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
         physics = self.config.physics
@@ -371,22 +371,22 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     def _get_obs(self) -> np.ndarray:
         data = self.data
         angle = 2.0 * np.pi * self._keyframe / self.steps_per_cycle
-        parts = [
-            self._readout.observe(self._stiffness),
-            data.sensordata[self._imu_view],
-            [math.cos(angle), math.sin(angle)],
-            self._base_target(),
-        ]
-        if self._grip is not None:  # the controller's state: section offsets (of the range), N
-            parts += [self._grip.offset * (1.0 / GRIP_RANGE), self._grip.force]
-        if self.config.episode.privileged_obs:
-            mujoco.mj_subtreeVel(self.model, data)
-            parts += [self._com_view, data.subtree_linvel[self._root_body]]
-        obs = np.concatenate(parts)
+        sensed = [self._readout.observe(self._stiffness), data.sensordata[self._imu_view]]
+        sensed = np.concatenate(sensed)  # the joints' and IMU's readings: what obs_history keeps
         if "sensor_noise" in self.config.randomization:
             noise = self._noise_std * self.np_random.standard_normal(self._noise_std.size)
-            obs[: self._noise_std.size] += noise
-        return obs
+            sensed[: self._noise_std.size] += noise
+        parts = [sensed, [math.cos(angle), math.sin(angle)], self._base_target()]
+        if self._grip is not None:  # the controller's state: section offsets (of the range), N
+            parts += [self._grip.offset * (1.0 / GRIP_RANGE), self._grip.force]
+        if self._history.frames:
+            parts.append(self._history.read_then_keep(sensed, self._step_count == 0))
+        if self.config.episode.privileged_obs:
+            mujoco.mj_subtreeVel(self.model, data)
+            pole = self._elements.pole_geom
+            physics = layouts.privileged_physics(self.model, pole, self._stiffness)
+            parts += [self._com_view, data.subtree_linvel[self._root_body], physics]
+        return np.concatenate(parts)
 
     def _get_reset_info(self) -> dict[str, Any]:
         com, phase = float(self._com_view[2]), self._keyframe / self.steps_per_cycle

@@ -117,7 +117,22 @@ ARGUMENTS: tuple[Argument, ...] = (
         "None, bool or dict",
         "True for the actuator model's defaults, or (low, high) ranges",
     ),
-    Argument("privileged_obs", False, bool, "episode", "bool", "observe the centre of mass"),
+    Argument(
+        "privileged_obs",
+        False,
+        bool,
+        "episode",
+        "bool",
+        "observe the centre of mass and the physics",
+    ),
+    Argument(
+        "obs_history",
+        0,
+        int,
+        "episode",
+        "int in [0, 8]",
+        "past steps' joint and IMU readings observed",
+    ),
     Argument(
         "start_phase_range", 0.05, float, "episode", "[0, 1]", "share of a cycle the start is in"
     ),

@@ -63,6 +63,7 @@ from acl_env.validation import (
 # Accepted ranges of the constructor's arguments (the Arguments table says why).
 N_JOINTS_RANGE = (3, 100)
 CYCLES_PER_EPISODE_RANGE = (1, 8)
+OBS_HISTORY_MAX = 8  # past sensor frames an observation may carry
 POLE_RADIUS_RANGE = (0.01, 0.5)  # m
 FRICTION_MAX = 5.0
 FALL_DISTANCE_MAX = 4.0  # m: the pole's height
@@ -204,7 +205,8 @@ class GripConfig:
 @dataclass(frozen=True)
 class EpisodeConfig:
     """The episode: its length in cycles, the start's phase range and joint noise (rad), the
-    fall distance (m), the roll limit (deg), and whether the centre of mass is observed."""
+    fall distance (m), the roll limit (deg), whether the centre of mass and the physics are
+    observed, and how many past sensor frames are."""
 
     cycles_per_episode: int
     start_phase_range: float
@@ -212,6 +214,7 @@ class EpisodeConfig:
     fall_distance: float
     roll_limit: float | None
     privileged_obs: bool
+    obs_history: int
 
     @classmethod
     def checked(cls, raw: Mapping[str, Any]) -> EpisodeConfig:
@@ -229,6 +232,7 @@ class EpisodeConfig:
             if roll_limit is None
             else check_positive("roll_limit", roll_limit, ROLL_LIMIT_MAX),
             privileged_obs=check_bool("privileged_obs", raw["privileged_obs"]),
+            obs_history=check_int("obs_history", raw["obs_history"], 0, OBS_HISTORY_MAX),
         )
 
 
@@ -318,6 +322,7 @@ __all__ = [
     "FRICTION_MAX",
     "IMAGE_SIZE_RANGE",
     "N_JOINTS_RANGE",
+    "OBS_HISTORY_MAX",
     "POLE_RADIUS_RANGE",
     "ROLL_LIMIT_MAX",
     "TIMESTEP_RANGE",

@@ -8,8 +8,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+import mujoco
+import numpy as np
+
 IMU = ("imu_quat_w", "imu_quat_x", "imu_quat_y", "imu_quat_z", "gyro_x", "gyro_y", "gyro_z")
-PRIVILEGED = ("com_x", "com_y", "com_z", "com_vel_x", "com_vel_y", "com_vel_z")
+PRIVILEGED = (
+    *("com_x", "com_y", "com_z", "com_vel_x", "com_vel_y", "com_vel_z"),
+    *("friction", "pole_radius", "stiffness", "control_latency"),
+)
 
 
 @dataclass(frozen=True)
@@ -31,11 +37,18 @@ def _per(prefix: str, count: int) -> tuple[str, ...]:
     return tuple(f"{prefix}_{i}" for i in range(count))
 
 
+def sensed_names(n_joints: int) -> tuple[str, ...]:
+    """The readings of the joints and the IMU, the observation's first entries, in order."""
+    n = n_joints
+    return (*_per("angle", n), *_per("velocity", n), *_per("torque", n), *IMU)
+
+
 def observation_layout(
-    n_joints: int, grip_sections: int = 0, privileged: bool = False
+    n_joints: int, grip_sections: int = 0, privileged: bool = False, history: int = 0
 ) -> tuple[Block, ...]:
     """What the robot senses, in order (``grip_sections``: the compliant grip's sections, 0
-    without it; ``privileged``: ``privileged_obs``)."""
+    without it; ``privileged``: ``privileged_obs``; ``history``: ``obs_history``). The
+    privileged block comes last, for a critic to read and an actor to skip."""
     n = n_joints
     blocks = [
         Block(_per("angle", n), "rad", "joint angles"),
@@ -66,12 +79,58 @@ def observation_layout(
                 "grip_target",
             ),
         ]
+    sensed = sensed_names(n)
+    for h in range(1, history + 1):
+        blocks.append(
+            Block(
+                tuple(f"{name}_prev{h}" for name in sensed),
+                "as the readings",
+                f"the joint and IMU readings (angles to gyro) {h} step{'s' * (h > 1)} before",
+                "obs_history",
+            )
+        )
     if privileged:
         blocks += [
             Block(PRIVILEGED[:3], "m", "centre of mass position", "privileged_obs"),
-            Block(PRIVILEGED[3:], "m/s", "centre of mass velocity", "privileged_obs"),
+            Block(PRIVILEGED[3:6], "m/s", "centre of mass velocity", "privileged_obs"),
+            Block(PRIVILEGED[6:7], "-", "the pole's sliding friction now", "privileged_obs"),
+            Block(PRIVILEGED[7:8], "m", "the pole's radius", "privileged_obs"),
+            Block(
+                PRIVILEGED[8:9],
+                "N m/rad",
+                "the joints' stiffness (SEA: the springs'; servo: its kp)",
+                "privileged_obs",
+            ),
+            Block(PRIVILEGED[9:], "s", "the command latency", "privileged_obs"),
         ]
     return tuple(blocks)
+
+
+class ReadingHistory:
+    """The last ``frames`` steps' joint and IMU readings (``obs_history``), newest first."""
+
+    def __init__(self, frames: int, n_joints: int) -> None:
+        self.frames = frames
+        self._readings = np.zeros((frames, len(sensed_names(n_joints))))
+
+    def read_then_keep(self, sensed: np.ndarray, reset: bool) -> np.ndarray:
+        """The kept readings, flat (at a reset, every one is ``sensed``); then keep ``sensed``."""
+        readings = self._readings
+        if reset:
+            readings[:] = sensed
+        out = readings.ravel().copy()
+        readings[1:] = readings[:-1]
+        readings[0] = sensed
+        return out
+
+
+def privileged_physics(model: mujoco.MjModel, pole_geom: int, stiffness: float) -> np.ndarray:
+    """The physics entries of the privileged block: the pole's sliding friction as the model holds
+    it now (after a friction step, the new one), its radius, the joints' ``stiffness`` (N m/rad)
+    and the command latency (s)."""
+    friction, radius = model.geom_friction[pole_geom, 0], model.geom_size[pole_geom, 0]
+    latency = float(model.actuator_delay.max()) if model.nu else 0.0
+    return np.array([friction, radius, stiffness, latency])
 
 
 def action_layout(
@@ -124,7 +183,8 @@ def env_observation_layout(env: Any) -> tuple[Block, ...]:
     """:func:`observation_layout` of an ``ACLClimbEnv`` (unwrapped), from its config."""
     config = env.config
     sections = 0 if config.grip is None else config.gait.modulation_sections
-    return observation_layout(env.n_joints, sections, config.episode.privileged_obs)
+    episode = config.episode
+    return observation_layout(env.n_joints, sections, episode.privileged_obs, episode.obs_history)
 
 
 def env_action_layout(env: Any) -> tuple[Block, ...]:
@@ -146,11 +206,13 @@ def env_observation_names(env: Any) -> tuple[str, ...]:
 
 __all__ = [
     "Block",
+    "ReadingHistory",
     "action_layout",
     "env_action_layout",
     "env_observation_layout",
     "env_observation_names",
     "names",
     "observation_layout",
+    "privileged_physics",
     "size",
 ]

@@ -41,7 +41,9 @@ def table(layout: tuple[Block, ...], what: str) -> str:
 def layouts() -> dict[str, str]:
     n, sections = DEFAULT_N_JOINTS, DEFAULT_SECTIONS
     return {
-        "observation": table(observation_layout(n, sections, privileged=True), "observation"),
+        "observation": table(
+            observation_layout(n, sections, privileged=True, history=1), "observation"
+        ),
         "arguments": markdown_table(),
         "action": table(
             action_layout(n, ("squeeze",), sections, grip=True, cadence=True), "action"

@@ -142,6 +142,31 @@ def test_a_finished_record_resumes_without_running_and_other_settings_are_refuse
     assert len(ran) == len(TWO_CELLS.cells()) and made["settings"] == record["settings"]
 
 
+def test_a_selection_of_cells_plays_those_cells_as_the_whole_grid_does(
+    record: dict, two_policies: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--cells``: only the named cells, with the figures the whole grid's record has for them;
+    the selection is in the settings, so a whole-grid run does not resume it."""
+    from acl_env.benchmark.cli import main
+
+    selected = TWO_CELLS.select(["friction=0.5"])
+    assert [c.key for c in selected.cells()] == ["friction=0.5"]
+    path = tmp_path / "some.json"
+    some = bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, selected, SEEDS, path)
+    assert list(some["cells"]) == ["friction=0.5"]
+    assert some["cells"]["friction=0.5"] == record["cells"]["friction=0.5"]
+    assert some["settings"]["cells"] == ["friction=0.5"] and "cells" not in record["settings"]
+    with pytest.raises(bench.SettingsMismatch):
+        bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, two_policies, TWO_CELLS, SEEDS, path)
+    with pytest.raises(ValueError, match=r"no cell 'friction=0\.3' in the grid"):
+        TWO_CELLS.select(["nominal", "friction=0.3"])
+    with pytest.raises(SystemExit) as exit_:
+        main(["--cells", "friction=0.3", "--json", str(tmp_path / "x.json")])
+    assert exit_.value.code == 2
+    assert "argument --cells: no cell 'friction=0.3'" in capsys.readouterr().err
+    assert not (tmp_path / "x.json").exists()
+
+
 def test_policies_of_one_folder_name_are_refused(two_policies: list[Path]) -> None:
     """Records name each seed by its folder: two of one name would merge into one seed."""
     from acl_env.evaluation.runner import PolicySetError, policies_controllers

@@ -66,6 +66,13 @@ def make_parser() -> cli.ArgumentParser:
         "performance profiles",
     )
     parser.add_argument(
+        "--cells",
+        nargs="+",
+        metavar="KEY",
+        help="play only these cells, named as the record names them: nominal, friction=0.4, "
+        "friction=0.4,pole_radius=0.12, friction_step=0.5 (default: every cell)",
+    )
+    parser.add_argument(
         "--remake",
         action="store_true",
         help="a record at --json made with other settings (another version's controllers, "
@@ -97,6 +104,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         grid = grid_for(task)
     except KeyError as error:
         parser.error(f"argument --policy: {error.args[0]}")
+    if args.cells:
+        try:
+            grid = grid.select(args.cells)
+        except ValueError as error:
+            parser.error(f"argument --cells: {error}")
     if args.json.is_file():
         try:
             read_json(args.json)

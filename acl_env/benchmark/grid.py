@@ -12,7 +12,7 @@ the nominal condition: the pole turning slippery mid-episode (``friction_step``)
 from __future__ import annotations
 
 import itertools
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -73,11 +73,25 @@ class Cell:
 class Grid:
     """The axes of one task and its cells (pairwise full factorial, :mod:`this module's
     <acl_env.benchmark.grid>` design); ``fixed``: kwargs every cell adds (a test's short
-    episodes); ``events``: cells played after the grid's, at the nominal condition."""
+    episodes); ``events``: cells played after the grid's, at the nominal condition; ``only``:
+    the keys of the cells to play, when not all (:meth:`select`)."""
 
     axes: tuple[Axis, ...]
     fixed: Mapping[str, Any] = field(default_factory=dict)
     events: tuple[Cell, ...] = ()
+    only: tuple[str, ...] = ()
+
+    def select(self, keys: Sequence[str]) -> Grid:
+        """The grid playing only the cells named ``keys`` (:attr:`Cell.key`), in the grid's
+        order; ``ValueError`` naming a key that is not a cell of it."""
+        known = [cell.key for cell in replace(self, only=()).cells()]
+        unknown = [key for key in keys if key not in known]
+        if unknown:
+            raise ValueError(
+                f"no cell {unknown[0]!r} in the grid; its {len(known)} cells are named like "
+                f"{', '.join(known[:2])}, {known[-1]}"
+            )
+        return replace(self, only=tuple(key for key in known if key in keys))
 
     def axis(self, name: str) -> Axis:
         """The axis of env keyword argument ``name``."""
@@ -85,7 +99,7 @@ class Grid:
 
     def cells(self) -> list[Cell]:
         """Every cell with at most two axes off their nominal values, nominal first, each
-        once, in a stable order."""
+        once, in a stable order, then the events (those of :attr:`only`, when set)."""
         seen: dict[str, Cell] = {}
         for first, second in itertools.combinations(self.axes, 2):
             for a, b in itertools.product(first.values, second.values):
@@ -97,7 +111,8 @@ class Grid:
                 held_out = any(not self.axis(k).trained(v) for k, v in changed.items())
                 cell = Cell(changed, held_out)
                 seen.setdefault(cell.key, cell)
-        return sorted(seen.values(), key=lambda c: (len(c.kwargs), c.key)) + list(self.events)
+        cells = sorted(seen.values(), key=lambda c: (len(c.kwargs), c.key)) + list(self.events)
+        return [cell for cell in cells if cell.key in self.only] if self.only else cells
 
     def env_kwargs(self, cell: Cell) -> dict[str, Any]:
         """The keyword arguments that play ``cell``."""

@@ -108,6 +108,7 @@ def settings(
             "fixed": dict(grid.fixed),
             # only where there are events: the records of grids without them read as before
             **({"events": [dict(c.kwargs) for c in grid.events]} if grid.events else {}),
+            **({"cells": list(grid.only)} if grid.only else {}),  # a selection: its cells
             "controllers": controller_table(policies, tuned_path),
         }
     )

@@ -461,7 +461,7 @@ def test_obs_history_carries_the_last_steps_readings_before_the_privileged_block
     newest first, each the reset's at reset; then the privileged block, last."""
     env = ACLClimbEnv(obs_history=2, privileged_obs=True, domain_randomization=True)
     names = layouts.env_observation_names(env)
-    sensed = len(layouts.sensed_names(20))
+    sensed = layouts.size(tuple(layouts.sensed_blocks(20)))
     first, second = names.index("angle_0_prev1"), names.index("angle_0_prev2")
     assert second == first + sensed and names[-10:] == PRIVILEGED
     assert names[first + sensed - 1] == "gyro_z_prev1"

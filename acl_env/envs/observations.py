@@ -37,20 +37,11 @@ def _per(prefix: str, count: int) -> tuple[str, ...]:
     return tuple(f"{prefix}_{i}" for i in range(count))
 
 
-def sensed_names(n_joints: int) -> tuple[str, ...]:
-    """The readings of the joints and the IMU, the observation's first entries, in order."""
+def sensed_blocks(n_joints: int) -> list[Block]:
+    """The readings of the joints and the IMU: the observation's first blocks, and what
+    ``obs_history`` keeps of past steps."""
     n = n_joints
-    return (*_per("angle", n), *_per("velocity", n), *_per("torque", n), *IMU)
-
-
-def observation_layout(
-    n_joints: int, grip_sections: int = 0, privileged: bool = False, history: int = 0
-) -> tuple[Block, ...]:
-    """What the robot senses, in order (``grip_sections``: the compliant grip's sections, 0
-    without it; ``privileged``: ``privileged_obs``; ``history``: ``obs_history``). The
-    privileged block comes last, for a critic to read and an actor to skip."""
-    n = n_joints
-    blocks = [
+    return [
         Block(_per("angle", n), "rad", "joint angles"),
         Block(_per("velocity", n), "rad/s", "joint velocities"),
         Block(
@@ -61,6 +52,18 @@ def observation_layout(
         ),
         Block(IMU[:4], "-", "head IMU orientation, quaternion (w, x, y, z)"),
         Block(IMU[4:], "rad/s", "head IMU angular velocity"),
+    ]
+
+
+def observation_layout(
+    n_joints: int, grip_sections: int = 0, privileged: bool = False, history: int = 0
+) -> tuple[Block, ...]:
+    """What the robot senses, in order (``grip_sections``: the compliant grip's sections, 0
+    without it; ``privileged``: ``privileged_obs``; ``history``: ``obs_history``). The
+    privileged block comes last, for a critic to read and an actor to skip."""
+    n = n_joints
+    blocks = [
+        *sensed_blocks(n),
         Block(("phase_cos", "phase_sin"), "-", "cos, sin of the gait phase of the next step"),
         Block(_per("target", n), "rad", "base gait's target angles for the next step"),
     ]
@@ -79,7 +82,7 @@ def observation_layout(
                 "grip_target",
             ),
         ]
-    sensed = sensed_names(n)
+    sensed = names(tuple(sensed_blocks(n)))
     for h in range(1, history + 1):
         blocks.append(
             Block(
@@ -111,7 +114,7 @@ class ReadingHistory:
 
     def __init__(self, frames: int, n_joints: int) -> None:
         self.frames = frames
-        self._readings = np.zeros((frames, len(sensed_names(n_joints))))
+        self._readings = np.zeros((frames, size(tuple(sensed_blocks(n_joints)))))
 
     def read_then_keep(self, sensed: np.ndarray, reset: bool) -> np.ndarray:
         """The kept readings, flat (at a reset, every one is ``sensed``); then keep ``sensed``."""
@@ -214,5 +217,6 @@ __all__ = [
     "names",
     "observation_layout",
     "privileged_physics",
+    "sensed_blocks",
     "size",
 ]

@@ -284,6 +284,17 @@ def test_layer_norm_critic_normalises_only_the_critic() -> None:
     assert [type(m) for m in normed.policy_net] == [type(m) for m in plain.policy_net]
 
 
+def test_where_the_envs_step_changes_nothing_of_the_training(tmp_path: Path) -> None:
+    """The same run with its envs in the trainer, on threads, or in worker processes learns the
+    same weights, bit for bit: the vector env layout is a speed choice only."""
+    weights = {}
+    for layout in ("dummy", "threads", "subproc"):
+        run_dir = run(tiny_argv(tmp_path / layout, 2 * ROLLOUT, "--vec-env", layout))
+        weights[layout] = policy_params(load(run_dir)[0])
+    assert_same_params(weights["dummy"], weights["threads"])
+    assert_same_params(weights["dummy"], weights["subproc"])
+
+
 def test_asymmetric_critic_hides_the_privileged_block_from_the_actor(tmp_path: Path) -> None:
     """The actor's weights on the privileged entries stay exactly zero through training, saving,
     loading and export (its actions ignore them), while the critic reads them."""

@@ -1,7 +1,8 @@
 """Speed of the native vector env (``gym.make_vec``): world steps per second on 1 and 2 threads,
 against the worlds' raw physics.
 
-``python benchmarks/bench_vector.py [--env ID] [--worlds 16] [--steps 40] [--rounds 5] [--json F]``
+``python benchmarks/bench_vector.py [--env ID] [--worlds 16] [--steps 40] [--rounds 5] [--json F]
+[--episodes N]``
 
 Three things are timed in interleaved rounds, each over ``--steps`` steps of ``--worlds`` worlds
 with a zero action from the same reset (``seed=0``), and reported as the median over
@@ -15,6 +16,12 @@ with a zero action from the same reset (``seed=0``), and reported as the median 
   else. The replay ends in the state the vector env reached, bit for bit (checked): the same
   trajectories, so the same contacts and solver work;
 * ``threads_2``: the vector env on two threads.
+
+With ``--episodes N``, each round also plays N whole episodes of the task's open loop (seeds
+0 to N - 1) the two ways ``acl-evaluate`` could: in its 2 worker processes (``evaluate``, pool
+made and closed in the timing, each episode measured by ``run_episode``), and as one vector env
+of N worlds on 2 threads (made, reset and stepped to the episodes' end in the timing, no
+measuring). Reported: episodes per second of each.
 
 Only ids whose command is constant over a step replay this way (no compliant grip, whose
 firmware changes the command at every tick); the check refuses the others.
@@ -39,6 +46,8 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_SEA_ID
 from acl_env.envs.contacts import SLIP_SAMPLES
+from acl_env.evaluation.baselines import Controller
+from acl_env.evaluation.runner import evaluate
 from acl_env.scripts import make_parser, write_outputs
 
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION  # qpos, qvel, act, ctrl, warm start, histories
@@ -127,6 +136,34 @@ def measure(env_id: str, worlds: int, steps: int, rounds: int) -> dict[str, Any]
     }
 
 
+def time_episodes(env_id: str, episodes: int, vector: bool) -> float:
+    """Seconds to play ``episodes`` open-loop episodes (module docstring), in 2 worker processes
+    or as one vector env on 2 threads."""
+    seeds = list(range(episodes))
+    start = time.perf_counter()
+    if vector:
+        env = gym.make_vec(env_id, num_envs=episodes, threads=2)
+        env.reset(seed=seeds)
+        action = np.zeros(env.action_space.shape, dtype=np.float32)
+        for _ in range(env.envs[0].steps_per_cycle * env.envs[0].cycles_per_episode):
+            env.step(action)
+        env.close()
+    else:
+        evaluate([Controller("open_loop_tuned", env_id)], seeds, workers=2, progress=False)
+    return time.perf_counter() - start
+
+
+def measure_episodes(env_id: str, episodes: int, rounds: int) -> dict[str, Any]:
+    """Episodes per second, processes against the vector env, interleaved, medians."""
+    samples: dict[str, list[float]] = {"processes": [], "vector_env": []}
+    for r in tqdm(range(rounds), desc="episodes"):
+        for vector in (False, True) if r % 2 == 0 else (True, False):
+            key = "vector_env" if vector else "processes"
+            samples[key].append(episodes / time_episodes(env_id, episodes, vector))
+    rate = {k: statistics.median(v) for k, v in samples.items()}
+    return {"episodes": episodes, "episodes_per_s": rate, "samples": samples}
+
+
 PREDICTED_CORES = (8, 16, 64)
 
 
@@ -152,8 +189,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser.add_argument("--worlds", type=int, default=16, help="worlds per vector env")
     parser.add_argument("--steps", type=int, default=40, help="steps per round")
     parser.add_argument("--rounds", type=int, default=5, help="interleaved rounds")
+    parser.add_argument("--episodes", type=int, help="also time whole episodes (docstring)")
     args = parser.parse_args(argv)
     result = measure(args.env, args.worlds, args.steps, args.rounds)
+    if args.episodes:
+        result["whole_episodes"] = measure_episodes(args.env, args.episodes, args.rounds)
     write_outputs(args, result)
     rate = result["world_steps_per_s"]
     print(
@@ -169,6 +209,13 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         f"Amdahl fit: serial fraction {result['serial_fraction']:.2f}; predicted world steps/s: "
         f"{predicted}; ceiling {result['predicted_ceiling_world_steps_per_s']:.0f}"
     )
+    if args.episodes:
+        rate = result["whole_episodes"]["episodes_per_s"]
+        print(
+            f"{args.episodes} whole episodes: {rate['processes']:.3f} episodes/s in 2 worker "
+            f"processes, {rate['vector_env']:.3f} as a vector env on 2 threads "
+            f"({rate['vector_env'] / rate['processes']:.2f}x)"
+        )
     return result
 
 

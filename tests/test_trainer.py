@@ -36,6 +36,7 @@ from acl_env.training.arguments import make_parser
 from acl_env.training.model_setup import make_training_env
 from acl_env.training.plan import plan_segment, segment_seed
 
+ASYMMETRIC = "acl_env.training.networks.AsymmetricCriticPolicy"
 ROLLOUT = 128  # env steps per update: n_steps 64 x 2 envs
 EPS = 1e-4  # RunningMeanStd's initial count
 
@@ -303,8 +304,7 @@ def test_asymmetric_critic_hides_the_privileged_block_from_the_actor(tmp_path: P
     from acl_env.evaluation import export
     from acl_env.training.networks import AsymmetricCriticPolicy
 
-    path = "acl_env.training.networks.AsymmetricCriticPolicy"
-    extra = ("--hyperparams", f"policy:{path}", "--env-kwargs", "privileged_obs:true")
+    extra = ("--hyperparams", f"policy:{ASYMMETRIC}", "--env-kwargs", "privileged_obs:true")
     run_dir = run(tiny_argv(tmp_path, 2 * ROLLOUT, *extra))
     model, _, _ = load(run_dir)
     policy = model.policy
@@ -414,6 +414,8 @@ BAD_NEW_RUNS = [
     (["--hyperparams", "callback:no.such.Callback"], "callback"),
     (["--hyperparams", "policy:no.such.Policy"], "policy"),
     (["--hyperparams", "policy:acl_env.training.callbacks.InfoTermsCallback"], "policy"),
+    (["--hyperparams", f"policy:{ASYMMETRIC}"], "privileged_obs"),  # hides the robot's own
+    (["--hyperparams", f"policy:{ASYMMETRIC}", "policy_kwargs:dict(critic_only=0)"], "critic_only"),
     (["--hyperparams", "env_kwargs:{}"], "--env-kwargs"),
     (["--hyperparams", "nocolon"], "--hyperparams"),
     (["--hyperparams", "n_steps:64", "n_steps:32"], "twice"),

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from acl_env import pretrained
-from acl_env.envs.observations import env_observation_names
+from acl_env.envs.observations import PRIVILEGED, env_observation_names
 from acl_env.training import warm_start
 from acl_env.training.checks import ConfigError, check_env_kwargs
 from acl_env.training.config import algo_kwargs, normalize_kwargs
@@ -133,14 +133,20 @@ def _check_init_from(
 
 
 def _check_policy_kwargs(probe: Any, hyperparams: dict[str, Any]) -> Any:
-    """Build the policy network once on the env's spaces and return it: unknown or bad
-    ``policy_kwargs`` fail here, before any worker starts."""
+    """Build the recipe's policy network once on the env's spaces and return it: unknown or bad
+    ``policy_kwargs`` fail here, before any worker starts, and so does an asymmetric critic whose
+    hidden entries are not the env's privileged block."""
     from stable_baselines3.common.policies import ActorCriticPolicy
+
+    from acl_env.training.networks import AsymmetricCriticPolicy
 
     kwargs = algo_kwargs(hyperparams)
     policy_kwargs = kwargs.get("policy_kwargs") or {}
+    policy_class = kwargs.get("policy")
+    if not isinstance(policy_class, type):  # SB3's alias, MlpPolicy
+        policy_class = ActorCriticPolicy
     try:
-        return ActorCriticPolicy(
+        policy = policy_class(
             probe.observation_space,
             probe.action_space,
             lambda _: 1e-4,
@@ -151,6 +157,16 @@ def _check_policy_kwargs(probe: Any, hyperparams: dict[str, Any]) -> Any:
         raise bad_argument(
             "--hyperparams", f"policy_kwargs refused by the policy: {error}"
         ) from None
+    if isinstance(policy, AsymmetricCriticPolicy):
+        hidden = env_observation_names(probe.unwrapped)[-policy.critic_only :]
+        if not set(hidden) <= set(PRIVILEGED):
+            raise bad_argument(
+                "--env-kwargs",
+                f"AsymmetricCriticPolicy hides the last {policy.critic_only} observation entries "
+                f"from the actor, but {hidden[0]!r} among them is the robot's own: set "
+                "privileged_obs true (or fewer critic_only)",
+            )
+    return policy
 
 
 def check_device(device: str) -> None:

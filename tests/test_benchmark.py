@@ -331,3 +331,34 @@ def test_heat_maps_draw_the_events_in_a_column_of_their_own(record: dict, tmp_pa
     plot_heat_maps(evented, "success_rate", with_event)
     height, width = matplotlib.image.imread(plain).shape[:2]
     assert matplotlib.image.imread(with_event).shape[:2] == (height, 2 * width)
+
+
+def test_heat_map_colours_span_the_bulk_of_the_values_not_an_outlier(record: dict) -> None:
+    """The colour map's ends: 0 and 1 for the success rate; the 2nd and 98th percentiles for
+    the other scores, so one controller sliding metres in one cell leaves the rest readable."""
+    import copy
+
+    from acl_env.benchmark.figures import _value_range
+    from acl_env.benchmark.summary import controllers_of
+
+    policies, analytic = controllers_of(record)
+    rows = ["policies", *analytic]
+    assert _value_range(record, rows, policies, "success_rate", 1.0) == (0.0, 1.0)
+    slips = [
+        cell["controllers"][name]["slip_per_m"]["mean"]
+        for cell in record["cells"].values()
+        for name in [*policies, *analytic]
+    ]
+    low, high = _value_range(record, rows, policies, "slip_per_m", 1.0)
+    assert min(slips) <= low <= high <= max(slips)
+    # a grid's worth of cells (30 copies of the record's), one of them an outlier
+    big = copy.deepcopy(record)
+    big["cells"] = {
+        f"{key}#{i}": copy.deepcopy(cell)
+        for i in range(15)
+        for key, cell in record["cells"].items()
+    }
+    assert _value_range(big, rows, policies, "slip_per_m", 1.0)[1] <= max(slips)
+    outlier = copy.deepcopy(big)
+    outlier["cells"]["nominal#0"]["controllers"][analytic[0]]["slip_per_m"]["mean"] = 100.0
+    assert _value_range(outlier, rows, policies, "slip_per_m", 1.0)[1] <= max(slips)

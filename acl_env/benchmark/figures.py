@@ -80,7 +80,13 @@ def plot_heat_maps(
             fontsize=10,
         )
     if image is not None:
-        fig.colorbar(image, ax=grid, shrink=0.6, label=f"{title} ({unit})" if unit else title)
+        fig.colorbar(
+            image,
+            ax=grid,
+            shrink=0.6,
+            label=f"{title} ({unit})" if unit else title,
+            extend="neither" if score == "success_rate" else "both",
+        )
     fig.suptitle(f"{record['settings']['task']}: {title}; x: falls in most episodes", fontsize=12)
     fig.savefig(path, dpi=90)
     plt.close(fig)
@@ -102,15 +108,23 @@ class _Colours(NamedTuple):
 def _value_range(
     record: dict[str, Any], rows: list[str], policies: list[str], score: str, scale: float
 ) -> tuple[float, float]:
-    """The least and greatest finite ``score`` (scaled) of the rows' controllers over all cells
-    (0 and 1 when there is none)."""
+    """The colour map's ends: 0 and 1 for the success rate; for the other scores the 2nd and
+    98th percentiles of the rows' finite values (scaled) over all cells, so that one outlier (a
+    controller sliding metres on the trunk) does not wash out every other cell; the cells still
+    write their values, and the colour bar shows the ends as extended (0 and 1 when there is no
+    value)."""
+    if score == "success_rate":
+        return 0.0, 1.0
     values_all = []
     for row in rows:
         names = policies if row == "policies" else [row]
         for cell in record["cells"].values():
             values_all += [_value(cell["controllers"][n], score) * scale for n in names]
     finite = [v for v in values_all if np.isfinite(v)]
-    return (min(finite), max(finite)) if finite else (0.0, 1.0)
+    if not finite:
+        return 0.0, 1.0
+    low, high = np.percentile(finite, [2.0, 98.0])
+    return float(low), float(high)
 
 
 def _heat_map(

@@ -296,6 +296,32 @@ def test_where_the_envs_step_changes_nothing_of_the_training(tmp_path: Path) -> 
     assert_same_params(weights["dummy"], weights["subproc"])
 
 
+def test_each_segment_records_the_code_that_trained_it(tmp_path: Path) -> None:
+    """summary.json's segment names acl_env's version, a hash of its source and the libraries'
+    versions; the export carries it; an edited source file changes the hash."""
+    import acl_env as acl_env_module
+    from acl_env import pretrained
+    from acl_env.evaluation import export
+    from acl_env.training import runs
+
+    run_dir = run(tiny_argv(tmp_path, ROLLOUT))
+    (segment,) = json.loads((run_dir / "summary.json").read_text())["segments"]
+    assert segment["code"] == runs.code_version()
+    assert set(segment["code"]) >= {"acl_env", "acl_env_sha256", "mujoco", "torch"}
+    export.export_policy(run_dir, tmp_path / "exported", "coded", trust_pickles=True)
+    training = pretrained.load_policy(tmp_path / "exported").metadata["training"]
+    assert training["code"] == [segment["code"]]
+    package = tmp_path / "package"
+    (package / "envs").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "envs" / "step.py").write_text("SPRING = 20.0\n")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(acl_env_module, "__file__", str(package / "__init__.py"))
+        before = runs.code_version()["acl_env_sha256"]
+        (package / "envs" / "step.py").write_text("SPRING = 20.5\n")
+        assert runs.code_version()["acl_env_sha256"] != before
+
+
 def test_asymmetric_critic_hides_the_privileged_block_from_the_actor(tmp_path: Path) -> None:
     """The actor's weights on the privileged entries stay exactly zero through training, saving,
     loading and export (its actions ignore them), while the critic reads them."""

@@ -93,7 +93,7 @@ def normalization_arrays(path: Path, trust_pickles: bool = False) -> dict[str, n
 
 def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> dict[str, Any]:
     """The recipe entry, steps, wall time, command (and the ``--resume`` commands that continued
-    it, if any) and commit of the run that trained it."""
+    it, if any), commit and code of the run that trained it."""
     args, summary = (
         read_json(folder.path / file) if (folder.path / file).is_file() else {}
         for file in (ARGS_FILE, SUMMARY_FILE)
@@ -112,6 +112,8 @@ def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> di
         "wall_time_s": summary.get("wall_time_s"),
         "interrupted": summary.get("interrupted"),
         "commit": commit or args.get("commit") or summary.get("commit"),
+        # each segment's code (training/runs.py code_version), where the run recorded it
+        "code": [s["code"] for s in summary.get("segments", []) if "code" in s],
     }
 
 

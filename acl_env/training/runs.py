@@ -237,3 +237,30 @@ def load_vecnormalize(path: str | Path, venv: Any, trust_pickles: bool = False) 
             )
         rms.mean, rms.var, rms.count = np.copy(source.mean), np.copy(source.var), source.count
     return stats
+
+
+SOURCE_SUFFIXES = (".py", ".json", ".yml", ".xml", ".npz")
+
+
+def code_version() -> dict[str, Any]:
+    """What trained a run, so that a retrain can be traced to what changed: ``acl_env``'s
+    version and a SHA-256 over its package's source and data files (their paths and bytes,
+    in order; the package as installed or checked out), and the versions of the libraries that
+    step, learn and count."""
+    import hashlib
+    import importlib.metadata
+
+    import acl_env
+
+    root = Path(acl_env.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(p for p in root.rglob("*") if p.suffix in SOURCE_SUFFIXES):
+        if "__pycache__" not in path.parts:
+            digest.update(path.relative_to(root).as_posix().encode() + b"\0")
+            digest.update(path.read_bytes())
+    libraries = ("mujoco", "numpy", "torch", "stable_baselines3", "gymnasium")
+    return {
+        "acl_env": acl_env.__version__,
+        "acl_env_sha256": digest.hexdigest(),
+        **{name: importlib.metadata.version(name) for name in libraries},
+    }

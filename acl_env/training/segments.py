@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 from acl_env.io import GuardedOutput, read_json, write_json
 from acl_env.training.config import save_hyperparams
 from acl_env.training.plan import Plan
-from acl_env.training.runs import ARGS_FILE, CONFIG_FILE, SUMMARY_FILE
+from acl_env.training.runs import ARGS_FILE, CONFIG_FILE, SUMMARY_FILE, code_version
 from acl_env.training.timing import Timed
 
 if TYPE_CHECKING:  # SB3 is imported when a segment runs
@@ -109,6 +109,7 @@ def open_segment(
         "vec_env": plan.settings["vec_env"],
         "workers": len(getattr(env.unwrapped, "processes", [])),
         "torch_threads": torch.get_num_threads(),
+        "code": code_version(),
     }
     write_json(run_dir / SUMMARY_FILE, run_summary(plan, [*segments, segment], start_steps))
     print(f"run folder: {run_dir}")

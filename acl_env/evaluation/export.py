@@ -99,6 +99,7 @@ def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> di
         for file in (ARGS_FILE, SUMMARY_FILE)
     )
     argv = args.get("argv")
+    code = [s["code"] for s in summary.get("segments", []) if "code" in s]
     # A resumed run's steps are its first command's and its resumes' together: name them all.
     resumed = [
         shlex.join(["acl-train", *r["argv"]]) for r in args.get("resumes", []) if r.get("argv")
@@ -113,7 +114,7 @@ def training_summary(folder: PolicyFolder, steps: int, commit: str | None) -> di
         "interrupted": summary.get("interrupted"),
         "commit": commit or args.get("commit") or summary.get("commit"),
         # each segment's code (training/runs.py code_version), where the run recorded it
-        "code": [s["code"] for s in summary.get("segments", []) if "code" in s],
+        **({"code": code} if code else {}),
     }
 
 

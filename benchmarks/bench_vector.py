@@ -88,15 +88,6 @@ def time_raw(envs: list[Any], states: list[np.ndarray], commands: list[np.ndarra
     return elapsed
 
 
-def time_vector(env: Any, steps: int) -> float:
-    """Seconds for ``steps`` steps of the vector env ``env`` with a zero action."""
-    action = np.zeros(env.action_space.shape, dtype=np.float32)
-    start = time.perf_counter()
-    for _ in range(steps):
-        env.step(action)
-    return time.perf_counter() - start
-
-
 def saved_states(envs: list[Any]) -> list[np.ndarray]:
     """Every world's integration state (``STATE``)."""
     model = envs[0].model
@@ -114,7 +105,8 @@ def measure(env_id: str, worlds: int, steps: int, rounds: int) -> dict[str, Any]
         for t in (1, 2) if r % 2 == 0 else (2, 1):  # alternate which goes first
             vectors[t].reset(seed=0)
             if t == 2:
-                samples["threads_2"].append(worlds * steps / time_vector(vectors[2], steps))
+                elapsed, _ = time_recorded(vectors[2], steps)
+                samples["threads_2"].append(worlds * steps / elapsed)
                 continue
             states = saved_states(vectors[1].envs)
             elapsed, commands = time_recorded(vectors[1], steps)

@@ -75,7 +75,8 @@ class JointReadout:
         return self.torque.copy()
 
     def observe(self, stiffness: float) -> np.ndarray:
-        """Joint angles, velocities and torques, ``3 n`` values (``stiffness``: the joints')."""
+        """Joint angles, velocities and torques, ``3 n`` values (``stiffness``: the joints'), in
+        a new array (the env adds the sensor noise to it)."""
         return np.concatenate((self._angle, self._speed, self.torque))
 
 

@@ -371,15 +371,15 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
     def _get_obs(self) -> np.ndarray:
         data = self.data
         angle = 2.0 * np.pi * self._keyframe / self.steps_per_cycle
-        sensed = [self._readout.observe(self._stiffness), data.sensordata[self._imu_view]]
-        sensed = np.concatenate(sensed)  # the joints' and IMU's readings: what obs_history keeps
+        joints = self._readout.observe(self._stiffness)  # a new array: the noise goes on it
         if "sensor_noise" in self.config.randomization:
-            noise = self._noise_std * self.np_random.standard_normal(self._noise_std.size)
-            sensed[: self._noise_std.size] += noise
-        parts = [sensed, [math.cos(angle), math.sin(angle)], self._base_target()]
+            joints += self._noise_std * self.np_random.standard_normal(self._noise_std.size)
+        parts = [joints, data.sensordata[self._imu_view]]  # the readings obs_history keeps
+        sensed = np.concatenate(parts) if self._history.frames else None
+        parts += [[math.cos(angle), math.sin(angle)], self._base_target()]
         if self._grip is not None:  # the controller's state: section offsets (of the range), N
             parts += [self._grip.offset * (1.0 / GRIP_RANGE), self._grip.force]
-        if self._history.frames:
+        if sensed is not None:
             parts.append(self._history.read_then_keep(sensed, self._step_count == 0))
         if self.config.episode.privileged_obs:
             mujoco.mj_subtreeVel(self.model, data)

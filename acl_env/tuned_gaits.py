@@ -17,6 +17,8 @@ otherwise), never to the shipped one unless given its path. Per entry:
 - ``objective``, ``reward_weights``: the metric optimised, under those reward weights;
 - ``seeds``, ``steps_per_cycle``, ``cycles_per_episode``: each trial's episodes;
 - ``condition`` (optional): env arguments every trial played under, such as ``{"friction": 0.5}``;
+- ``cvar``, ``against_default`` (optional): a risk-averse study's share of worst conditions, and
+  whether each condition scored the margin over the default gait's there;
 - ``trials``, ``best_trial``, ``study``: the Optuna study;
 - ``metrics``: the tuned gait's metrics (:mod:`acl_env.evaluation`), mean over the seeds;
 - ``validation``: the same on new seeds (the best few trials re-measured there; the tuned gait is

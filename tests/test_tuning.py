@@ -640,3 +640,31 @@ def test_cvar_needs_a_maximised_objective_and_a_share(
             main(tiny_args(tmp_path, "--n-trials", "1", *extra))
         err = capsys.readouterr().err
         assert exc.value.code == 2 and "--cvar" in err and words in err, (extra, err)
+
+
+def test_against_default_scores_each_condition_by_its_margin_over_the_paper_gait(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--against-default``: a condition's score is the trial's minus the default gait's on the
+    same seeds, so the default gait (trial 0) scores 0 everywhere and every trial's value is the
+    CVaR of its margins; the validation scores the same way. It needs ``--cvar``."""
+    grid = ["--condition", "friction:[0.05,1.0]", "--cvar", "0.5", "--against-default"]
+    main(tiny_args(tmp_path, "--n-trials", "2", *grid))
+    study = load(tmp_path)
+    assert study.user_attrs["settings"]["against_default"] is True
+    trials = study.get_trials(states=(optuna.trial.TrialState.COMPLETE,))
+    default = [t for t in trials if t.user_attrs.get("default_gait")]
+    assert len(default) == 1 and default[0].value == 0.0
+    reference = default[0].user_attrs["condition_scores"]
+    for trial in trials:
+        scores, kept = trial.user_attrs["condition_scores"], trial.user_attrs["condition_margins"]
+        assert kept == pytest.approx([s - r for s, r in zip(scores, reference, strict=True)])
+        assert trial.value == pytest.approx(objective.cvar(kept, 0.5))
+    validated = [v for k, v in study.user_attrs.items() if k.startswith("validation_")]
+    assert validated and all(v["cvar"] == min(v["condition_margins"]) for v in validated)
+    entry = tuned_gaits.read(tmp_path / "tuned.json")["acl"]
+    assert entry["cvar"] == 0.5 and entry["against_default"] is True
+    with pytest.raises(SystemExit) as exc:
+        main(tiny_args(tmp_path / "other", "--n-trials", "1", "--against-default"))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and "--against-default" in err and "--cvar" in err

@@ -66,6 +66,13 @@ def make_parser() -> ArgumentParser:
         "disqualifying (a maximised --objective only)",
     )
     parser.add_argument(
+        "--against-default",
+        action="store_true",
+        help="with --cvar: score each condition by the gait's margin over the default (the "
+        "paper's) gait's score there, on the same seeds; a CVaR of at least 0 is a gait at least "
+        "as good as the paper's in its worst conditions",
+    )
+    parser.add_argument(
         "--config",
         default=str(DEFAULT_CONFIG),
         help="training recipe (zoo YAML; default: the shipped one)",

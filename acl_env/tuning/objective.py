@@ -69,6 +69,10 @@ class TuneSettings:
     # Risk-averse: score the mean of the worst ``cvar`` share of the conditions (CVaR), a fall
     # counting as FALL_SCORE, instead of the mean with falls disqualifying.
     cvar: float | None = None
+    # Under ``cvar``: score each condition by the margin over the default gait's score there,
+    # on the same seeds (a gait at least as good as the untuned one in every condition scores
+    # a CVaR of at least 0).
+    against_default: bool = False
 
     @property
     def direction(self) -> str:
@@ -85,6 +89,8 @@ class TuneSettings:
             del out["grip"]
         if self.cvar is None:  # nor those from before --cvar
             del out["cvar"]
+        if not self.against_default:  # nor those from before --against-default
+            del out["against_default"]
         return out
 
     @property
@@ -185,19 +191,46 @@ def condition_scores(
     return scores, episodes, fallen
 
 
+_DEFAULT_SCORES: dict[tuple[str, tuple[int, ...]], list[float]] = {}
+
+
+def default_scores(settings: TuneSettings, seeds: Sequence[int]) -> list[float]:
+    """The default gait's :func:`condition_scores` on ``seeds`` (played once per process)."""
+    key = (repr(settings), tuple(seeds))
+    if key not in _DEFAULT_SCORES:
+        envs = settings.make_envs(settings.default_params)
+        try:
+            _DEFAULT_SCORES[key] = condition_scores(settings, envs, seeds)[0]
+        finally:
+            for env in envs:
+                env.close()
+    return _DEFAULT_SCORES[key]
+
+
+def margins(settings: TuneSettings, scores: Sequence[float], seeds: Sequence[int]) -> list[float]:
+    """``scores`` as scored under ``--cvar``: each condition's own, or with
+    ``against_default`` its margin over the default gait's there (:func:`default_scores`)."""
+    if not settings.against_default:
+        return list(scores)
+    return [s - d for s, d in zip(scores, default_scores(settings, seeds), strict=True)]
+
+
 def risk_averse_value(
     trial: optuna.Trial, settings: TuneSettings, envs: Sequence[gymnasium.Env]
 ) -> float:
-    """A trial's value under ``--cvar``: the :func:`cvar` of its :func:`condition_scores`.
-    The scores, the conditions fallen in and the metrics' means over all episodes are the
-    trial's user attributes."""
+    """A trial's value under ``--cvar``: the :func:`cvar` of its :func:`condition_scores` (or
+    of their :func:`margins` over the default gait's). The scores (and margins), the conditions
+    fallen in and the metrics' means over all episodes are the trial's user attributes."""
     scores, episodes, fallen = condition_scores(settings, envs, settings.seeds)
     for name in METRICS:
         trial.set_user_attr(name, mean_ci95(e[name] for e in episodes)["mean"])
     trial.set_user_attr("seeds_run", len(episodes))
     trial.set_user_attr("condition_scores", scores)
     trial.set_user_attr("conditions_fallen", fallen)
-    return cvar(scores, settings.cvar or 1.0)
+    scored = margins(settings, scores, settings.seeds)
+    if settings.against_default:
+        trial.set_user_attr("condition_margins", scored)
+    return cvar(scored, settings.cvar or 1.0)
 
 
 def suggest_params(trial: optuna.Trial, space: Mapping[str, ParamRange]) -> dict[str, float]:

@@ -18,7 +18,7 @@ from tqdm import tqdm
 
 from acl_env.evaluation import METRICS, mean_ci95
 from acl_env.io import jsonable
-from acl_env.tuning.objective import TuneSettings, condition_scores, cvar, rollout_all
+from acl_env.tuning.objective import TuneSettings, condition_scores, cvar, margins, rollout_all
 from acl_env.tuning.study import FINISHED
 
 
@@ -110,8 +110,10 @@ def _measure(
         "ci95_half_width": {m: summary["half_width"] for m, summary in summaries.items()},
     }
     if settings.cvar is not None:
-        stored["cvar"] = cvar(scores, settings.cvar)
+        stored["cvar"] = cvar(margins(settings, scores, seeds), settings.cvar)
         stored["condition_scores"] = scores
+        if settings.against_default:
+            stored["condition_margins"] = margins(settings, scores, seeds)
     return stored
 
 
@@ -134,6 +136,8 @@ def tuned_entry(
         "steps_per_cycle": settings.steps_per_cycle,
         "cycles_per_episode": settings.cycles_per_episode,
         **({"condition": dict(settings.condition)} if settings.condition else {}),
+        **({"cvar": settings.cvar} if settings.cvar is not None else {}),
+        **({"against_default": True} if settings.against_default else {}),
         "trials": len(finished),
         "best_trial": chosen.number,
         "study": study.study_name,

@@ -45,6 +45,7 @@ def settings_from_args(args: argparse.Namespace) -> TuneSettings:
         condition=condition,
         grip=args.grip,
         cvar=_checked_cvar(args),
+        against_default=_checked_against_default(args),
     )
     for values in settings.conditions():  # the env checks the condition's values
         _check_env(env_id, "--condition", **values)
@@ -61,6 +62,16 @@ def _checked_cvar(args: argparse.Namespace) -> float | None:
     if OBJECTIVES[args.objective] != "maximize":
         raise UsageError("--cvar", f"needs a maximised --objective, got {args.objective!r}")
     return float(share)
+
+
+def _checked_against_default(args: argparse.Namespace) -> bool:
+    """``--against-default``: it scores the margins of ``--cvar``'s conditions, so it needs it
+    (in a ``--grip`` study the default is no gain: the margins are the grip's gain)."""
+    if not getattr(args, "against_default", False):
+        return False
+    if getattr(args, "cvar", None) is None:
+        raise UsageError("--against-default", "needs --cvar (it scores the conditions' margins)")
+    return True
 
 
 def _checked_limits(args: argparse.Namespace) -> float | None:

@@ -209,10 +209,13 @@ def default_scores(settings: TuneSettings, seeds: Sequence[int]) -> list[float]:
 
 def margins(settings: TuneSettings, scores: Sequence[float], seeds: Sequence[int]) -> list[float]:
     """``scores`` as scored under ``--cvar``: each condition's own, or with
-    ``against_default`` its margin over the default gait's there (:func:`default_scores`)."""
+    ``against_default`` its margin over the default gait's there (:func:`default_scores`; 0
+    where the default gait falls, so a gait that falls there too scores :data:`FALL_SCORE`)."""
     if not settings.against_default:
         return list(scores)
-    return [s - d for s, d in zip(scores, default_scores(settings, seeds), strict=True)]
+    # Where the default gait falls it climbs nothing: a gait that falls there too scores a fall.
+    reference = [0.0 if d == FALL_SCORE else d for d in default_scores(settings, seeds)]
+    return [s - d for s, d in zip(scores, reference, strict=True)]
 
 
 def risk_averse_value(

@@ -672,3 +672,16 @@ def test_against_default_scores_each_condition_by_its_margin_over_the_paper_gait
         main(tiny_args(tmp_path / "other", "--n-trials", "1", "--against-default"))
     err = capsys.readouterr().err
     assert exc.value.code == 2 and "--against-default" in err and "--cvar" in err
+
+
+def test_the_frontier_names_what_a_trial_value_is() -> None:
+    """The colour bar says whether a trial's value is the objective, its CVaR over the
+    conditions, or the CVaR of the margins over the default gait."""
+    from acl_env.tuning.frontier import value_label
+
+    plain = objective.TuneSettings(objective="climb_per_gait_cycle_m")
+    assert value_label(plain) == "climb_per_gait_cycle_m"
+    risk = objective.TuneSettings(objective="climb_per_gait_cycle_m", cvar=0.25)
+    assert "CVaR 0.25" in value_label(risk) and "margin" not in value_label(risk)
+    against = objective.TuneSettings(cvar=0.25, against_default=True)
+    assert "margin over the default gait" in value_label(against)

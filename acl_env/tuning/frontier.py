@@ -157,6 +157,15 @@ def render_frontier(
     return buffer.getvalue()
 
 
+def value_label(settings: TuneSettings) -> str:
+    """What a trial's value is: the objective, or under ``--cvar`` the CVaR of the conditions'
+    scores of it (or of their margins over the default gait's)."""
+    if settings.cvar is None:
+        return settings.objective
+    scored = "margin over the default gait" if settings.against_default else "score"
+    return f"{settings.objective}: CVaR {settings.cvar:g} of the conditions' {scored}"
+
+
 def _draw_gaits(
     fig: Any,
     ax: Any,
@@ -185,7 +194,7 @@ def _draw_gaits(
         )
         if colourbar:
             extend = "min" if settings.direction == "maximize" else "max"
-            fig.colorbar(sc, ax=ax, label=settings.objective, extend=extend)
+            fig.colorbar(sc, ax=ax, label=value_label(settings), extend=extend)
     extra = _finite(trials.extra, metric)
     if len(extra):
         names = ", ".join(other.study_name for other in others)

@@ -99,6 +99,15 @@ RECORDS: dict[str, Record] = {
         + "".join(f" experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5))
         + " --json docs/eval_sea_seeds.json",
     ),
+    # The compliant recipe over its five training seeds, the same way.
+    "eval_compliant_seeds": Record(
+        ("docs/eval_compliant_seeds.json",),
+        "acl-evaluate --policy acl_climb_compliant_ppo"
+        + "".join(
+            f" experiments/training_seeds/acl_climb_compliant_ppo_seed{s}" for s in range(1, 5)
+        )
+        + " --json docs/eval_compliant_seeds.json",
+    ),
     "policy_behaviour": Record(
         ("docs/policy_behaviour.json", "docs/policy_behaviour.png"),
         f"python benchmarks/policy_behaviour.py --policy {COMPLIANT_POLICY} --episodes 20"

@@ -192,12 +192,13 @@ def test_readme_benchmark_sentence_is_the_record() -> None:
     assert f"{len(record['cells'])}-cell grid" in text
 
 
-def test_readme_seeds_sentence_is_the_record() -> None:
-    """The SEA recipe over its five training seeds (interquartile mean, bootstrap interval over
-    seeds, probability of improvement), as the README states it."""
+@pytest.mark.parametrize("name", ["eval_sea_seeds", "eval_compliant_seeds"])
+def test_readme_seeds_sentence_is_the_record(name: str) -> None:
+    """The SEA and compliant recipes over their five training seeds (interquartile mean,
+    bootstrap interval over seeds, probability of improvement), as the README states them."""
     from acl_env.io import read_json
 
-    record = read_json(ROOT / "docs" / "eval_sea_seeds.json")
+    record = read_json(ROOT / "docs" / f"{name}.json")
     over = record["over_seeds"]
     climb, slip, energy = (
         over[m] for m in ("climb_per_gait_cycle_m", "slip_per_m", "energy_per_m")

@@ -110,10 +110,11 @@ def _measure(
         "ci95_half_width": {m: summary["half_width"] for m, summary in summaries.items()},
     }
     if settings.cvar is not None:
-        stored["cvar"] = cvar(margins(settings, scores, seeds), settings.cvar)
+        scored = margins(settings, scores, seeds)
+        stored["cvar"] = cvar(scored, settings.cvar)
         stored["condition_scores"] = scores
         if settings.against_default:
-            stored["condition_margins"] = margins(settings, scores, seeds)
+            stored["condition_margins"] = scored
     return stored
 
 

@@ -14,18 +14,15 @@ grips, ``acl_sea_grip`` and ``acl_sea_robust_grip``).
 from __future__ import annotations
 
 import os
-from dataclasses import replace
 from typing import Any
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
+import gait_grid  # this folder's script (on the path when run as one): the controllers
 import numpy as np
 
-from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
 from acl_env.evaluation.runner import make_pool, run_controllers
 from acl_env.scripts import make_parser, seeds, write_output
-from acl_env.shipped import policy_dir
-from acl_env.training.policy import read_policy_folder
 
 # The conditions where acl_sea was seen to lose the pole, the nominal pole, the grid's thinnest
 # and thickest, and the friction step.
@@ -57,16 +54,7 @@ GAITS = {
 
 def controllers_for(condition: dict[str, float]) -> list[Any]:
     """The five controllers under ``condition``, named by :data:`GAITS`' keys."""
-    folder = read_policy_folder(policy_dir("acl_climb_sea_ppo"))
-    chosen = []
-    for key in ("acl_sea", "acl_sea_robust"):
-        built, _ = build_controllers(folder, dict(condition), None, DEFAULT_TUNED_GAITS, key)
-        by_name = {c.name: c for c in built}
-        if key == "acl_sea":
-            chosen.append(by_name["open_loop_acl"])
-        chosen.append(replace(by_name["open_loop_tuned"], name=key))
-        chosen.append(replace(by_name["compliant_acl"], name=f"{key}_grip"))
-    return chosen
+    return gait_grid.controllers_for(condition, ["acl_sea", "acl_sea_robust"], grips=True)
 
 
 def _summary(episodes: list[Any]) -> dict[str, Any]:

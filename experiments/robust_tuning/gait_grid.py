@@ -37,8 +37,14 @@ PAPER = "open_loop_acl"
 CLIMB = "climb_per_gait_cycle_m"
 
 
-def controllers_for(condition: dict[str, Any], keys: list[str], tuned: Path) -> list[Controller]:
-    """The paper's gait and each tuned entry of ``keys``, open loop under ``condition``."""
+def controllers_for(
+    condition: dict[str, Any],
+    keys: list[str],
+    tuned: Path = DEFAULT_TUNED_GAITS,
+    grips: bool = False,
+) -> list[Controller]:
+    """The paper's gait and each tuned entry of ``keys`` (named by its key), open loop under
+    ``condition``; with ``grips`` each entry's compliant controller too (``<key>_grip``)."""
     folder = read_policy_folder(policy_dir("acl_climb_sea_ppo"))  # the SEA task's setting
     chosen: list[Controller] = []
     for key in keys:
@@ -47,6 +53,8 @@ def controllers_for(condition: dict[str, Any], keys: list[str], tuned: Path) -> 
         if not chosen:
             chosen.append(by_name[PAPER])
         chosen.append(replace(by_name["open_loop_tuned"], name=key))
+        if grips:
+            chosen.append(replace(by_name["compliant_acl"], name=f"{key}_grip"))
     return chosen
 
 

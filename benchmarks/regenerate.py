@@ -118,6 +118,11 @@ RECORDS: dict[str, Record] = {
         ["acl_climb_sea_ppo"]
         + [f"experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5)],
     ),
+    "benchmark_compliant": benchmark_record(
+        "benchmark_compliant",
+        ["acl_climb_compliant_ppo"]
+        + [f"experiments/training_seeds/acl_climb_compliant_ppo_seed{s}" for s in range(1, 5)],
+    ),
     "benchmark_robust": benchmark_record(
         "benchmark_robust", ["experiments/training_seeds/acl_climb_robust_ppo_seed0"]
     ),

@@ -192,6 +192,27 @@ def test_readme_benchmark_sentence_is_the_record() -> None:
     assert f"{len(record['cells'])}-cell grid" in text
 
 
+def test_readme_compliant_benchmark_sentence_is_the_record() -> None:
+    """The compliant recipe's grid success over its seeds and its grip's, as the README states
+    them (docs/benchmark_compliant.json)."""
+    import numpy as np
+
+    from acl_env.io import read_json
+
+    record = read_json(ROOT / "docs" / "benchmark_compliant.json")
+    success = record["summary"]["all"]["scores"]["success_rate"]
+    assert len(success["policies"]["per_seed"]) == 5
+    grip = np.mean(
+        [c["controllers"]["compliant_acl"]["success_rate"] for c in record["cells"].values()]
+    )
+    low, high = success["policies"]["ci95"]
+    text = " ".join((ROOT / "README.md").read_text().split())
+    assert (
+        f"The compliant residual holds in {success['policies']['iqm']:.2f} ({low:.2f}-{high:.2f}) "
+        f"over its five seeds, its grip alone in {grip:.2f}."
+    ) in text
+
+
 @pytest.mark.parametrize("name", ["eval_sea_seeds", "eval_compliant_seeds"])
 def test_readme_seeds_sentence_is_the_record(name: str) -> None:
     """The SEA and compliant recipes over their five training seeds (interquartile mean,

@@ -126,6 +126,9 @@ RECORDS: dict[str, Record] = {
     "benchmark_robust": benchmark_record(
         "benchmark_robust", ["experiments/training_seeds/acl_climb_robust_ppo_seed0"]
     ),
+    "benchmark_robust_v2": benchmark_record(
+        "benchmark_robust_v2", ["experiments/training_seeds/acl_climb_robust_v2_ppo_seed0"]
+    ),
     "eval_noroll_compliant": Record(
         ("docs/eval_noroll_compliant.json",),
         f"acl-evaluate --policy {NOROLL_COMPLIANT_POLICY} --json docs/eval_noroll_compliant.json"

@@ -303,7 +303,7 @@ def test_an_event_is_a_cell_and_the_published_records_are_todays() -> None:
     assert robust.env_kwargs(last) == {"friction_step": 0.5}
     made = settings(ACL_CLIMB_ROBUST_ID, [], robust, [0], root / "acl_env/data/tuned_gaits.json")
     assert made["events"] == [{"friction_step": 0.5}]
-    for name in ("benchmark_sea", "benchmark_compliant", "benchmark_robust"):
+    for name in ("benchmark_sea", "benchmark_compliant", "benchmark_robust", "benchmark_robust_v2"):
         published = read_json(root / f"docs/{name}.json")["settings"]
         again = settings(
             published["task"],

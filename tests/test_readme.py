@@ -236,14 +236,25 @@ def test_readme_seeds_sentence_is_the_record(name: str) -> None:
 
 
 def test_readme_robust_sentence_is_the_record() -> None:
-    """The robust residual's grid result and its gait's, as the README states them
-    (docs/benchmark_robust.json)."""
+    """The robust residuals' grid results, their compliant controllers' and v2 against v1, as
+    the README states them (docs/benchmark_robust*.json, experiments/robust_residual)."""
     from acl_env.io import read_json
 
-    record = read_json(ROOT / "docs" / "benchmark_robust.json")
-    rates = record["summary"]["all"]["scores"]["success_rate"]
     text = " ".join((ROOT / "README.md").read_text().split())
-    (policy,) = rates["policies"]["per_seed"].values()
-    assert f"the residual holds the pole in {policy:.2f} of the episodes" in text
-    assert rates["analytic"]["open_loop_acl_same_cadence"] == 1.0  # "holds in all"
-    assert record["settings"]["task"] == "acl_env/ACLClimbRobust-v1"
+    for name, task in (("", "v1"), ("_v2", "v2")):
+        record = read_json(ROOT / "docs" / f"benchmark_robust{name}.json")
+        assert record["settings"]["task"] == f"acl_env/ACLClimbRobust-{task}"
+        rates = record["summary"]["all"]["scores"]["success_rate"]
+        (policy,) = rates["policies"]["per_seed"].values()
+        assert f"the residuals hold the pole in {policy:.2f} of the episodes" in text, task
+        assert rates["analytic"]["compliant_acl"] == 1.0, (
+            task
+        )  # "their compliant controllers in all"
+        nominal = read_json(ROOT / f"experiments/robust_residual/against_specialist{name}.json")
+        ratio = nominal["metrics"]["climb_per_gait_cycle_m"]["ratio"]
+        assert f"({ratio:.2f}x the nominal policy" in text, task
+    merged = read_json(ROOT / "experiments/robust_residual/against_every_analytic.json")
+    ratios = merged["v2_over_v1"]
+    climb, slip = (ratios[m]["median"] for m in ("climb_per_gait_cycle_m", "slip_per_m"))
+    assert f"climbs {climb:.2f}x as far at the median cell" in text
+    assert f"slides {slip:.2f}x as much" in text

@@ -1,0 +1,107 @@
+"""The robust residual's ablation: each arm's ``acl-benchmark`` record of the same cells, side by
+side, as a table and a heat map of success per arm and cell.
+
+``python experiments/robust_ablation/ablation_table.py ARM=RECORD ... [--json PATH] [--plot PNG]``
+
+Each record holds one arm's policy (one change to the robust recipe) and its task's analytic
+controllers on the same cells and reset seeds. Per arm: the share of successful episodes over
+the cells and over the held-out ones, the cells where it falls more often than the best analytic
+controller, and its climb and slip per metre at the nominal condition.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from acl_env.benchmark.summary import controllers_of, limits
+from acl_env.io import guarded_output, read_json
+from acl_env.scripts import make_parser, write_output
+
+
+def arm_row(record: dict[str, Any]) -> dict[str, Any]:
+    """One arm's scores from its record (its single policy against its analytic controllers)."""
+    (policy,), _ = controllers_of(record)
+    cells = record["cells"]
+    rates = {key: cell["controllers"][policy]["success_rate"] for key, cell in cells.items()}
+    held = [rates[key] for key, cell in cells.items() if cell["held_out"]]
+    nominal = cells["nominal"]["controllers"][policy] if "nominal" in cells else None
+    return {
+        "success_per_cell": rates,
+        "success": float(np.mean(list(rates.values()))),
+        "success_held_out": float(np.mean(held)) if held else None,
+        "cells_falling_more_than_best_analytic": limits(record)[policy][
+            "cells_falling_more_than_best_analytic"
+        ],
+        "nominal_climb_per_gait_cycle_m": nominal and nominal["climb_per_gait_cycle_m"]["mean"],
+        "nominal_slip_per_m": nominal and nominal["slip_per_m"]["mean"],
+    }
+
+
+def plot_arms(document: dict[str, Any], path: Path) -> None:
+    """Success per arm (rows) and cell (columns), with the rate written in each square."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    arms = list(document["arms"])
+    cells = list(document["arms"][arms[0]]["success_per_cell"])
+    grid = np.array([[document["arms"][a]["success_per_cell"][c] for c in cells] for a in arms])
+    fig, ax = plt.subplots(figsize=(1.0 + 0.75 * len(cells), 1.2 + 0.45 * len(arms)))
+    ax.imshow(grid, vmin=0.0, vmax=1.0, cmap="viridis", aspect="auto")
+    for (row, col), value in np.ndenumerate(grid):
+        ax.text(col, row, f"{100 * value:.0f}", ha="center", va="center", fontsize=7,
+                color="white" if value < 0.5 else "black")  # fmt: skip
+    ax.set_xticks(range(len(cells)), [c.replace(",", "\n") for c in cells], fontsize=6)
+    ax.set_yticks(range(len(arms)), arms, fontsize=8)
+    ax.set_title("robust residual ablation: success rate per cell (%)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = make_parser(__doc__)
+    parser.add_argument("arms", nargs="+", metavar="ARM=RECORD", help="an arm and its record")
+    parser.add_argument("--plot", type=Path, help="the heat map of success per arm and cell")
+    args = parser.parse_args(argv)
+    records: dict[str, dict[str, Any]] = {}
+    for item in args.arms:
+        name, _, path = item.partition("=")
+        if not name or not path:
+            parser.error(f"arms are ARM=RECORD, not {item!r}")
+        records[name] = read_json(path)
+    first = next(iter(records.values()))
+    for name, record in records.items():
+        if list(record["cells"]) != list(first["cells"]):
+            parser.error(f"{name}'s record has other cells than the first arm's")
+        if record["settings"]["seeds"] != first["settings"]["seeds"]:
+            parser.error(f"{name}'s record played other seeds than the first arm's")
+    document = {"seeds": first["settings"]["seeds"], "arms": {}}
+    for name, record in records.items():
+        document["arms"][name] = arm_row(record)
+    write_output(args.json, document)  # the record first: a closed pipe loses nothing
+    if args.plot is not None:
+        plot_arms(document, args.plot)
+        print(f"wrote {args.plot}")
+    print(
+        "arm: success (held out) | cells falling more than the best analytic | nominal climb, slip"
+    )
+    for name, row in document["arms"].items():
+        held = row["success_held_out"]
+        climb, slip = row["nominal_climb_per_gait_cycle_m"], row["nominal_slip_per_m"]
+        print(
+            f"{name}: {row['success']:.2f} ({'-' if held is None else f'{held:.2f}'}) | "
+            f"{len(row['cells_falling_more_than_best_analytic'])} | "
+            f"{'-' if climb is None else f'{100 * climb:.2f} cm'}, "
+            f"{'-' if slip is None else f'{slip:.3f}'}"
+        )
+    return document
+
+
+if __name__ == "__main__":
+    with guarded_output():
+        main()

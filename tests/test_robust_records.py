@@ -1,0 +1,79 @@
+"""experiments/robust_residual/against_every_analytic.py and
+experiments/robust_ablation/ablation_table.py, on the published robust benchmark records."""
+
+from __future__ import annotations
+
+import copy
+import json
+import runpy
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from acl_env.io import read_json
+
+ROOT = Path(__file__).resolve().parent.parent
+V1, V2 = (ROOT / "docs" / f"benchmark_robust{s}.json" for s in ("", "_v2"))
+
+
+def _script(*parts: str) -> dict[str, Any]:
+    """A script's functions (the experiments are not modules of the package)."""
+    return runpy.run_path(str(ROOT.joinpath("experiments", *parts)), run_name="script")
+
+
+@pytest.fixture(scope="module")
+def records() -> dict[str, dict[str, Any]]:
+    return {"v1": read_json(V1), "v2": read_json(V2)}
+
+
+def test_merge_keeps_one_copy_of_the_controllers_both_play_alike(records: dict) -> None:
+    merge = _script("robust_residual", "against_every_analytic.py")["merge"]
+    merged = merge(records)
+    names = list(merged["cells"]["nominal"]["controllers"])
+    # The paper's gait and the helix play the same episodes on both tasks: one copy each.
+    assert names.count("open_loop_acl") == 1 and names.count("open_loop_rolling_helix") == 1
+    # Each task's own gait and grip are kept apart, under the task's name.
+    for task in ("v1", "v2"):
+        assert f"{task}:open_loop_tuned" in names and f"{task}:compliant_acl" in names
+    policies = [n for n in names if n.startswith("policy:")]
+    assert len(policies) == 2
+    cell = merged["cells"]["friction=0.4,pole_radius=0.12"]["controllers"]
+    assert (
+        cell["v1:open_loop_tuned"]
+        == records["v1"]["cells"]["friction=0.4,pole_radius=0.12"]["controllers"]["open_loop_tuned"]
+    )
+
+
+def test_merge_refuses_records_of_other_seeds(records: dict) -> None:
+    merge = _script("robust_residual", "against_every_analytic.py")["merge"]
+    other = copy.deepcopy(records["v2"])
+    other["settings"]["seeds"] = other["settings"]["seeds"][:-1]
+    with pytest.raises(ValueError, match="other seeds"):
+        merge({"v1": records["v1"], "v2": other})
+
+
+def test_ablation_rows_are_the_records_scores(records: dict) -> None:
+    arm_row = _script("robust_ablation", "ablation_table.py")["arm_row"]
+    for record in records.values():
+        row = arm_row(record)
+        summary = record["summary"]["all"]["scores"]["success_rate"]["policies"]["per_seed"]
+        (policy, rate), = summary.items()  # fmt: skip
+        assert row["success"] == pytest.approx(rate)
+        nominal = record["cells"]["nominal"]["controllers"][policy]
+        assert row["nominal_slip_per_m"] == nominal["slip_per_m"]["mean"]
+        limits = record["summary"]["limits"][policy]
+        assert (
+            row["cells_falling_more_than_best_analytic"]
+            == limits["cells_falling_more_than_best_analytic"]
+        )
+
+
+def test_ablation_table_refuses_arms_of_other_cells(tmp_path: Path, records: dict) -> None:
+    main = _script("robust_ablation", "ablation_table.py")["main"]
+    fewer = copy.deepcopy(records["v1"])
+    del fewer["cells"]["nominal"]
+    path = tmp_path / "fewer.json"
+    path.write_text(json.dumps(fewer))
+    with pytest.raises(SystemExit):
+        main([f"base={V1}", f"fewer={path}"])

@@ -362,3 +362,34 @@ def test_heat_map_colours_span_the_bulk_of_the_values_not_an_outlier(record: dic
     outlier = copy.deepcopy(big)
     outlier["cells"]["nominal#0"]["controllers"][analytic[0]]["slip_per_m"]["mean"] = 100.0
     assert _value_range(outlier, rows, policies, "slip_per_m", 1.0)[1] <= max(slips)
+
+
+def test_benchmark_page_glance_table_is_the_records() -> None:
+    """docs/benchmark.md's table of every task's grid result: each row as its record has it."""
+    from acl_env.benchmark.summary import controllers_of
+    from acl_env.io import read_json
+
+    root = Path(__file__).resolve().parents[1]
+    page = (root / "docs" / "benchmark.md").read_text()
+
+    def span(values: list[int]) -> str:
+        return f"{min(values)}" if min(values) == max(values) else f"{min(values)}-{max(values)}"
+
+    for name in ("benchmark_sea", "benchmark_compliant", "benchmark_robust", "benchmark_robust_v2"):
+        record = read_json(root / "docs" / f"{name}.json")
+        rates = record["summary"]["all"]["scores"]["success_rate"]
+        policies, _ = controllers_of(record)
+        best = max(rates["analytic"].values())
+        limits = record["summary"]["limits"].values()
+        falls = span([len(v["cells_falling_more_than_best_analytic"]) for v in limits])
+        held = span([v["held_out_reliable_cells_held"] for v in limits])
+        (reliable,) = {v["held_out_reliable_cells"] for v in limits}
+        if len(policies) > 1:
+            low, high = rates["policies"]["ci95"]
+            success = f"{rates['policies']['iqm']:.2f} [{low:.2f}, {high:.2f}]"
+        else:
+            success = f"{rates['policies']['iqm']:.2f}"
+        task = record["settings"]["task"].removeprefix("acl_env/")
+        row = f"| `{task}` (`{name}.json`) | {len(policies)} | {success} | {best:.2f}, "
+        assert row in page, row
+        assert f"| {falls} | {held} of {reliable} |" in page.split(row)[1].splitlines()[0], name

@@ -55,17 +55,27 @@ def alike(one: dict[str, Any], other: dict[str, Any], controller: str) -> bool:
 
 
 def ratios(record: dict[str, Any], policy: str, controller: str) -> dict[str, Any]:
-    """Per score, the policy's cell mean over ``controller``'s, over the cells where both hold."""
+    """Per score, the median over cells of the policy's cell mean over ``controller``'s, over the
+    cells where neither falls in any episode (a fall's climb is negative: no ratio)."""
+    held = [
+        cell["controllers"]
+        for cell in record["cells"].values()
+        if cell["controllers"][policy]["falls"] == 0
+        and cell["controllers"][controller]["falls"] == 0
+    ]
     out: dict[str, Any] = {}
     for score in SCORES:
         values = [
-            cell["controllers"][policy][score]["mean"]
-            / cell["controllers"][controller][score]["mean"]
-            for cell in record["cells"].values()
-            if cell["controllers"][policy][score]["mean"] is not None
-            and cell["controllers"][controller][score]["mean"] is not None
+            results[policy][score]["mean"] / results[controller][score]["mean"]
+            for results in held
+            if results[policy][score]["mean"] is not None
+            and results[controller][score]["mean"] is not None
         ]
-        out[score] = {"median": float(np.median(values)), "cells": len(values)}
+        out[score] = {
+            "median": float(np.median(values)),
+            "higher": int(sum(v > 1.0 for v in values)),
+            "cells": len(values),
+        }
     return out
 
 
@@ -93,7 +103,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             "held-out cells where one of them does"
         )
     for score, ratio in result["v2_over_v1"].items():
-        print(f"v2 over v1, {score}: median {ratio['median']:.3f} over {ratio['cells']} cells")
+        print(
+            f"v2 over v1, {score}: median {ratio['median']:.3f}, higher in {ratio['higher']} of "
+            f"{ratio['cells']} cells where neither falls"
+        )
     return result
 
 

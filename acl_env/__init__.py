@@ -21,7 +21,9 @@ joints through torsional springs, commands and sensors arrive late; :mod:`acl_en
   with the grip tuned for the same conditions, ``"acl_sea_robust_grip"``;
 * ``acl_env/ACLClimbRobust-v2``: ACLClimbRobust-v1's task on the gait tuned to climb at least as
   far as the paper's gait in the worst quarter of the same conditions, ``"acl_sea_robust_climb"``
-  (v1's gait climbs less than the paper's nearly everywhere).
+  (v1's gait climbs less than the paper's nearly everywhere);
+* ``acl_env/ACLClimbCompliantRobust-v2``: ACLClimbRobust-v2's task on the compliant controller,
+  with the grip tuned on its gait for the same conditions, ``"acl_sea_robust_climb_grip"``.
 
 The same tasks on ideal position servos (``actuator_model="servo"``):
 
@@ -60,6 +62,7 @@ __all__ = [
     "ACL_CLIMB_BENCHMARK_ID",
     "ACL_CLIMB_COMPLIANT_ID",
     "ACL_CLIMB_COMPLIANT_ROBUST_ID",
+    "ACL_CLIMB_COMPLIANT_ROBUST_V2_ID",
     "ACL_CLIMB_ID",
     "ACL_CLIMB_NOROLL_BENCHMARK_ID",
     "ACL_CLIMB_NOROLL_COMPLIANT_ID",
@@ -102,6 +105,7 @@ ACL_CLIMB_NOROLL_COMPLIANT_ID = "acl_env/ACLClimbNoRollCompliant-v1"
 ACL_CLIMB_ROBUST_ID = "acl_env/ACLClimbRobust-v1"
 ACL_CLIMB_ROBUST_V2_ID = "acl_env/ACLClimbRobust-v2"
 ACL_CLIMB_COMPLIANT_ROBUST_ID = "acl_env/ACLClimbCompliantRobust-v1"
+ACL_CLIMB_COMPLIANT_ROBUST_V2_ID = "acl_env/ACLClimbCompliantRobust-v2"
 
 # The non-rolling task's base gait and reward (ACLClimbEnv's reference card says why). The gait is
 # the open-loop tuner's best for this task's reward, entry "acl_noroll" of the shipped tuned gaits
@@ -158,6 +162,7 @@ BENCHMARK_BASES = {
     ACL_CLIMB_ROBUST_ID: ACL_CLIMB_ID,
     ACL_CLIMB_ROBUST_V2_ID: ACL_CLIMB_ID,
     ACL_CLIMB_COMPLIANT_ROBUST_ID: ACL_CLIMB_ID,
+    ACL_CLIMB_COMPLIANT_ROBUST_V2_ID: ACL_CLIMB_ID,
 }
 # The SEA tasks: the servo benchmark tasks with the series elastic actuators, each on the gait
 # the tuner found best on the SEA for its reward (entries "acl_sea", "acl_noroll_sea").
@@ -195,6 +200,13 @@ COMPLIANT_ROBUST_KWARGS = {
     **tuned_gaits.grip("acl_sea_robust_grip"),
     "grip_action_scale": 100.0,
 }
+# v2: the robust task v2 on the grip tuned the same way on its gait ("acl_sea_robust_climb_grip"),
+# which holds the pole in every cell of the robust grid (docs/benchmark.md).
+COMPLIANT_ROBUST_V2_KWARGS = {
+    **ROBUST_V2_KWARGS,
+    **tuned_gaits.grip("acl_sea_robust_climb_grip"),
+    "grip_action_scale": 100.0,
+}
 
 _ENVS = {
     ACL_CLIMB_COMPLIANT_ID: COMPLIANT_KWARGS,
@@ -203,6 +215,7 @@ _ENVS = {
     ACL_CLIMB_ROBUST_ID: ROBUST_KWARGS,
     ACL_CLIMB_ROBUST_V2_ID: ROBUST_V2_KWARGS,
     ACL_CLIMB_COMPLIANT_ROBUST_ID: COMPLIANT_ROBUST_KWARGS,
+    ACL_CLIMB_COMPLIANT_ROBUST_V2_ID: COMPLIANT_ROBUST_V2_KWARGS,
     ACL_CLIMB_NOROLL_SEA_ID: NOROLL_SEA_KWARGS,
     ACL_CLIMB_BENCHMARK_ID: BENCHMARK_KWARGS,
     ACL_CLIMB_NOROLL_BENCHMARK_ID: NOROLL_BENCHMARK_KWARGS,

@@ -771,6 +771,7 @@ def test_every_registered_task_has_its_baselines() -> None:
         "acl_env/ACLClimbRobust-v1": "acl_sea_robust",
         "acl_env/ACLClimbRobust-v2": "acl_sea_robust_climb",
         "acl_env/ACLClimbCompliantRobust-v1": "acl_sea_robust",
+        "acl_env/ACLClimbCompliantRobust-v2": "acl_sea_robust_climb",
     }
     assert {env_id: tasks.task_baselines(env_id).tuned_key for env_id in ids} == expected
     # A gait given on the command line that rolls otherwise than its task's: the default entries.

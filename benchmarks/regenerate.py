@@ -56,6 +56,12 @@ class Record:
         return [sys.executable if word == "python" else word for word in words]
 
 
+def recipe_seeds(shipped: str) -> list[str]:
+    """A shipped policy and its recipe's training seeds 1-4, as ``--policy`` takes them (the
+    numpy exports in experiments/training_seeds/)."""
+    return [shipped] + [f"experiments/training_seeds/{shipped}_seed{s}" for s in range(1, 5)]
+
+
 def benchmark_record(name: str, policies: list[str]) -> Record:
     """``acl-benchmark`` of ``policies`` into ``docs/<name>.json`` and its figures (the heat maps
     of each score and the performance profiles). An unfinished record resumes; one made with
@@ -95,33 +101,23 @@ RECORDS: dict[str, Record] = {
     # stored numpy exports: no training (experiments/training_seeds/README.md).
     "eval_sea_seeds": Record(
         ("docs/eval_sea_seeds.json",),
-        "acl-evaluate --policy acl_climb_sea_ppo"
-        + "".join(f" experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5))
-        + " --json docs/eval_sea_seeds.json",
+        f"acl-evaluate --policy {' '.join(recipe_seeds('acl_climb_sea_ppo'))}"
+        " --json docs/eval_sea_seeds.json",
     ),
     # The compliant recipe over its five training seeds, the same way.
     "eval_compliant_seeds": Record(
         ("docs/eval_compliant_seeds.json",),
-        "acl-evaluate --policy acl_climb_compliant_ppo"
-        + "".join(
-            f" experiments/training_seeds/acl_climb_compliant_ppo_seed{s}" for s in range(1, 5)
-        )
-        + " --json docs/eval_compliant_seeds.json",
+        f"acl-evaluate --policy {' '.join(recipe_seeds('acl_climb_compliant_ppo'))}"
+        " --json docs/eval_compliant_seeds.json",
     ),
     "policy_behaviour": Record(
         ("docs/policy_behaviour.json", "docs/policy_behaviour.png"),
         f"python benchmarks/policy_behaviour.py --policy {COMPLIANT_POLICY} --episodes 20"
         " --json docs/policy_behaviour.json --plot docs/policy_behaviour.png",
     ),
-    "benchmark_sea": benchmark_record(
-        "benchmark_sea",
-        ["acl_climb_sea_ppo"]
-        + [f"experiments/training_seeds/acl_climb_sea_ppo_seed{s}" for s in range(1, 5)],
-    ),
+    "benchmark_sea": benchmark_record("benchmark_sea", recipe_seeds("acl_climb_sea_ppo")),
     "benchmark_compliant": benchmark_record(
-        "benchmark_compliant",
-        ["acl_climb_compliant_ppo"]
-        + [f"experiments/training_seeds/acl_climb_compliant_ppo_seed{s}" for s in range(1, 5)],
+        "benchmark_compliant", recipe_seeds("acl_climb_compliant_ppo")
     ),
     "benchmark_robust": benchmark_record(
         "benchmark_robust", ["experiments/training_seeds/acl_climb_robust_ppo_seed0"]

@@ -167,6 +167,56 @@ def test_a_selection_of_cells_plays_those_cells_as_the_whole_grid_does(
     assert not (tmp_path / "x.json").exists()
 
 
+def test_reuse_takes_the_analytic_controllers_a_record_played_alike(
+    record: dict, two_policies: list[Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``--reuse``: another record's analytic controllers that play alike are taken from it, not
+    played; the policies and the open loops at their cadence are played; the results are those
+    playing them would give (episodes are deterministic in their seed)."""
+    played: list[str] = []
+    evaluate = bench.evaluate
+
+    def counting(controllers: list, *args: object, **kwargs: object) -> dict:
+        played.extend(c.name for c in controllers)
+        return evaluate(controllers, *args, **kwargs)
+
+    monkeypatch.setattr(bench, "evaluate", counting)
+    one = two_policies[:1]
+    path = tmp_path / "one.json"
+    made = bench.run_benchmark(acl_env.ACL_CLIMB_SEA_ID, one, TWO_CELLS, SEEDS, path, reuse=record)
+    reused = set(bench.reusable(made["settings"], record))
+    assert reused and not reused & set(baselines.AT_POLICY_CADENCE)
+    assert not reused & set(played) and "policy:acl_climb_sea_ppo" in played
+    for key, cell in made["cells"].items():
+        assert set(cell["reused"]) == reused
+        for name in reused:
+            assert cell["controllers"][name] == record["cells"][key]["controllers"][name]
+    # Played without reuse, the same record: the reused results are what playing gives.
+    plain = bench.run_benchmark(
+        acl_env.ACL_CLIMB_SEA_ID, one, TWO_CELLS, SEEDS, tmp_path / "p.json"
+    )
+    assert all(
+        plain["cells"][k]["controllers"] == made["cells"][k]["controllers"] for k in plain["cells"]
+    )
+    # Another seed set, or another gait: nothing to reuse.
+    assert bench.reusable({**made["settings"], "seeds": [5, 6]}, record) == []
+    other = copy.deepcopy(record)
+    other["settings"]["controllers"]["open_loop_tuned"]["env_kwargs"]["squeeze"] = 0.0
+    assert "open_loop_tuned" not in bench.reusable(made["settings"], other)
+
+
+def test_reuse_of_an_unreadable_record_names_the_option(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from acl_env.benchmark.cli import main
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["--reuse", str(tmp_path / "none.json"), "--json", str(tmp_path / "x.json")])
+    assert exit_.value.code == 2
+    assert "argument --reuse: cannot read" in capsys.readouterr().err
+    assert not (tmp_path / "x.json").exists()
+
+
 def test_policies_of_one_folder_name_are_refused(two_policies: list[Path]) -> None:
     """Records name each seed by its folder: two of one name would merge into one seed."""
     from acl_env.evaluation.runner import PolicySetError, policies_controllers

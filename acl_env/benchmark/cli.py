@@ -78,9 +78,26 @@ def make_parser() -> cli.ArgumentParser:
         help="a record at --json made with other settings (another version's controllers, "
         "grid or policies) is made again from the start, instead of refused",
     )
+    parser.add_argument(
+        "--reuse",
+        type=record_file,
+        metavar="RECORD",
+        help="an acl-benchmark record of the same task and seeds (another recipe's, an "
+        "ablation arm's): the analytic controllers it played alike (not those at the policies' "
+        "cadence) are taken from its cells instead of played again; each such cell says so "
+        "under 'reused'",
+    )
     cli.add_workers(parser, 2, "processes running episodes (default 2)")
     parser.add_argument("--no-progress-bar", action="store_true")
     return parser
+
+
+def record_file(text: str) -> dict[str, Any]:
+    """An existing record's contents (``--reuse``)."""
+    try:
+        return read_json(Path(text))
+    except (OSError, ValueError) as error:
+        raise argparse.ArgumentTypeError(f"cannot read {text} as a record: {error}") from None
 
 
 def plot_paths(plots: Path) -> dict[str, Path]:
@@ -159,6 +176,7 @@ def _play(args: argparse.Namespace, task: str, grid: Grid, seeds: list[int]) -> 
             pool,
             on_cell=lambda _: bar.update(),
             remake=args.remake,
+            reuse=args.reuse,
         )
     finally:
         bar.close()

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from acl_env.benchmark.grid import Cell, Grid
-from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
+from acl_env.evaluation.baselines import AT_POLICY_CADENCE, DEFAULT_TUNED_GAITS, build_controllers
 from acl_env.evaluation.protocol import Episode
 from acl_env.evaluation.runner import evaluate, policies_controllers
 from acl_env.evaluation.tasks import shown_path
@@ -67,13 +67,38 @@ def run_cell(
     seeds: Sequence[int],
     pool: Executor | None,
     tuned_path: Path = DEFAULT_TUNED_GAITS,
+    known: dict[str, dict[str, Any]] | None = None,
 ) -> tuple[dict[str, dict[str, Any]], dict[str, str]]:
     """Every controller of one cell on ``seeds``: ``{controller: cell_result}``, and each
-    controller's label (what it is, in the reader's words)."""
+    controller's label (what it is, in the reader's words). Those in ``known`` (their results
+    in this cell, from another record: :func:`reusable`) are taken from it, not played."""
+    known = known or {}
     controllers, _ = policies_controllers(policies, cell_kwargs, tuned_path)
-    results = evaluate(controllers, seeds, workers=1, pool=pool, progress=False)
+    playing = [c for c in controllers if c.name not in known]
+    results = evaluate(playing, seeds, workers=1, pool=pool, progress=False)
     labels = {c.name: c.title for c in controllers}
-    return {name: cell_result(episodes) for name, episodes in results.items()}, labels
+    return {
+        c.name: known[c.name] if c.name in known else cell_result(results[c.name])
+        for c in controllers
+    }, labels
+
+
+def reusable(wanted: dict[str, Any], other: dict[str, Any]) -> list[str]:
+    """The analytic controllers whose results ``other`` (a record) holds as a run with settings
+    ``wanted`` would play them: the same task, seeds and fixed conditions, and the same env and
+    keyword arguments. Not those at the policies' cadence, which is the policies' own. Episodes
+    are deterministic in their seed, so a cell of ``other`` with the same conditions is what
+    playing them again would give."""
+    theirs = other.get("settings", {})
+    if other.get("format") != FORMAT or any(
+        theirs.get(key) != wanted[key] for key in ("task", "seeds", "fixed")
+    ):
+        return []
+    return [
+        name
+        for name, spec in wanted["controllers"].items()
+        if name not in AT_POLICY_CADENCE and theirs.get("controllers", {}).get(name) == spec
+    ]
 
 
 def controller_table(policies: Sequence[Path], tuned_path: Path) -> dict[str, dict[str, Any]]:
@@ -124,12 +149,15 @@ def run_benchmark(
     tuned_path: Path = DEFAULT_TUNED_GAITS,
     on_cell: Callable[[Cell], None] | None = None,
     remake: bool = False,
+    reuse: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Play every cell of ``grid`` not yet in the record at ``record_path`` (one made with the
     same :func:`settings`; one made with others is :class:`SettingsMismatch`, or with ``remake``
     made again from the start), writing it after each cell; return it. ``on_cell`` is called
-    after each cell (a progress bar)."""
+    after each cell (a progress bar). ``reuse``: a record whose :func:`reusable` controllers are
+    taken from its cells of the same conditions instead of played."""
     wanted = settings(task, policies, grid, seeds, tuned_path)
+    names = reusable(wanted, reuse) if reuse is not None else []
     record: dict[str, Any] = {"format": FORMAT, "settings": wanted, "labels": {}, "cells": {}}
     if record_path.is_file():
         previous = read_json(record_path)
@@ -143,12 +171,19 @@ def run_benchmark(
             )
     for cell in grid.cells():
         if cell.key not in record["cells"]:
-            controllers, labels = run_cell(policies, grid.env_kwargs(cell), seeds, pool, tuned_path)
+            theirs = (reuse or {}).get("cells", {}).get(cell.key)
+            known = {}
+            if theirs is not None and theirs["kwargs"] == cell.kwargs:
+                known = {name: theirs["controllers"][name] for name in names}
+            controllers, labels = run_cell(
+                policies, grid.env_kwargs(cell), seeds, pool, tuned_path, known
+            )
             record["labels"].update(labels)
             record["cells"][cell.key] = {
                 "kwargs": cell.kwargs,
                 "held_out": cell.held_out,
                 "controllers": controllers,
+                **({"reused": list(known)} if known else {}),  # taken from another record
             }
             write_json(record_path, record)
         if on_cell is not None:

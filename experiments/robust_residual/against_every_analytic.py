@@ -34,14 +34,13 @@ def merge(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
             raise ValueError(f"{name} has other cells")
     shared = set.intersection(*(set(controllers_of(r)[1]) for r in records.values()))
     shared = {c for c in shared if all(alike(first, r, c) for r in others)}
+    kept = shared | {p for r in records.values() for p in controllers_of(r)[0]}  # names as they are
     cells: dict[str, Any] = {}
     for key, cell in first["cells"].items():
         merged: dict[str, Any] = {}
         for name, record in records.items():
             for controller, result in record["cells"][key]["controllers"].items():
-                policy = controller in controllers_of(record)[0]
-                label = controller if policy or controller in shared else f"{name}:{controller}"
-                merged[label] = result
+                merged[controller if controller in kept else f"{name}:{controller}"] = result
         cells[key] = {**cell, "controllers": merged}
     return {"cells": cells}
 

@@ -198,6 +198,8 @@ def test_reuse_takes_the_analytic_controllers_a_record_played_alike(
     assert all(
         plain["cells"][k]["controllers"] == made["cells"][k]["controllers"] for k in plain["cells"]
     )
+    # Another task's record of the same controllers and cells: the same reuse.
+    assert set(bench.reusable({**made["settings"], "task": "acl_env/Other-v0"}, record)) == reused
     # Another seed set, or another gait: nothing to reuse.
     assert bench.reusable({**made["settings"], "seeds": [5, 6]}, record) == []
     other = copy.deepcopy(record)

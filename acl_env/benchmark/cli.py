@@ -82,8 +82,9 @@ def make_parser() -> cli.ArgumentParser:
         "--reuse",
         type=record_file,
         metavar="RECORD",
-        help="an acl-benchmark record of the same task and seeds (another recipe's, an "
-        "ablation arm's): the analytic controllers it played alike (not those at the policies' "
+        help="an acl-benchmark record on the same seeds (another recipe's, an ablation arm's, "
+        "another task's on the same grid): the analytic controllers it played alike (the same "
+        "env and arguments; not those at the policies' "
         "cadence) are taken from its cells instead of played again; each such cell says so "
         "under 'reused'",
     )

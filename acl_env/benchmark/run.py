@@ -85,13 +85,14 @@ def run_cell(
 
 def reusable(wanted: dict[str, Any], other: dict[str, Any]) -> list[str]:
     """The analytic controllers whose results ``other`` (a record) holds as a run with settings
-    ``wanted`` would play them: the same task, seeds and fixed conditions, and the same env and
-    keyword arguments. Not those at the policies' cadence, which is the policies' own. Episodes
-    are deterministic in their seed, so a cell of ``other`` with the same conditions is what
-    playing them again would give."""
+    ``wanted`` would play them: the same seeds and fixed conditions, and the same env and
+    keyword arguments, whichever task's record it is (a controller is its env and arguments).
+    Not those at the policies' cadence, which is the policies' own. Episodes are deterministic
+    in their seed, so a cell of ``other`` with the same conditions is what playing them again
+    would give."""
     theirs = other.get("settings", {})
     if other.get("format") != FORMAT or any(
-        theirs.get(key) != wanted[key] for key in ("task", "seeds", "fixed")
+        theirs.get(key) != wanted[key] for key in ("seeds", "fixed")
     ):
         return []
     return [

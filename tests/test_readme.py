@@ -238,6 +238,7 @@ def test_readme_seeds_sentence_is_the_record(name: str) -> None:
 def test_readme_robust_sentence_is_the_record() -> None:
     """The robust residuals' grid results, their compliant controllers' and v2 against v1, as
     the README states them (docs/benchmark_robust*.json, experiments/robust_residual)."""
+    from acl_env.benchmark.summary import controllers_of
     from acl_env.io import read_json
 
     text = " ".join((ROOT / "README.md").read_text().split())
@@ -258,3 +259,11 @@ def test_readme_robust_sentence_is_the_record() -> None:
     climb, slip = (ratios[m]["median"] for m in ("climb_per_gait_cycle_m", "slip_per_m"))
     assert f"climbs {climb:.2f}x as far at the median cell" in text
     assert f"slides {slip:.2f}x as much" in text
+    grip = read_json(ROOT / "experiments/robust_residual/benchmark_compliant_v2.json")
+    assert grip["settings"]["task"] == "acl_env/ACLClimbCompliantRobust-v2"
+    (held,) = grip["summary"]["all"]["scores"]["success_rate"]["policies"]["per_seed"].values()
+    assert f"on v2's grip the residual holds in {held:.2f}" in text
+    (policy,) = controllers_of(grip)[0]
+    falls = {key: cell["controllers"][policy]["falls"] for key, cell in grip["cells"].items()}
+    trunk = falls.pop("friction=0.4,pole_radius=0.12")  # "falling only on the slipperiest trunk"
+    assert not any(falls.values()) and f"({trunk} of 10 episodes)" in text

@@ -77,3 +77,22 @@ def test_ablation_table_refuses_arms_of_other_cells(tmp_path: Path, records: dic
     path.write_text(json.dumps(fewer))
     with pytest.raises(SystemExit):
         main([f"base={V1}", f"fewer={path}"])
+
+
+def test_tradeoff_points_are_the_records_scores(records: dict) -> None:
+    """tradeoff.py: one point per controller, those both records play alike once; each point's
+    success is its mean over the shared cells and its nominal scores are its nominal cell's."""
+    points = _script("robust_residual", "tradeoff.py")["points"](records)
+    assert [p["label"] for p in points].count("ACL, the paper's gait") == 1
+    assert [p["label"] for p in points].count("rolling helix") == 1
+    assert len(points) == 2 * 7 - 2  # a policy and six analytic controllers each, two shared
+    for p in points:
+        record = records[p["record"]]
+        (name,) = (n for n, text in record["labels"].items() if text == p["label"])
+        cells = record["cells"].values()
+        rates = [cell["controllers"][name]["success_rate"] for cell in cells]
+        assert p["success"] == pytest.approx(sum(rates) / len(rates)) and p["cells"] == 58
+        nominal = record["cells"]["nominal"]["controllers"][name]
+        assert p["nominal_slip_per_m"] == nominal["slip_per_m"]["mean"]
+        kinds = {"policy": "policy:", "grip": "compliant_acl", "open": "open_loop_"}
+        assert name.startswith(kinds[p["kind"]]), name

@@ -96,3 +96,22 @@ def test_tradeoff_points_are_the_records_scores(records: dict) -> None:
         assert p["nominal_slip_per_m"] == nominal["slip_per_m"]["mean"]
         kinds = {"policy": "policy:", "grip": "compliant_acl", "open": "open_loop_"}
         assert name.startswith(kinds[p["kind"]]), name
+
+
+def test_squeeze_margin_offsets_the_records_tuned_gait_and_replays_it_at_zero() -> None:
+    """squeeze_margin.py: each offset is the record's tuned gait in the cell with its squeeze
+    raised; the published record's +0 mm episodes are the benchmark record's, seed by seed."""
+    script = _script("robust_tuning", "squeeze_margin.py")
+    record = read_json(ROOT / "docs" / "benchmark_sea.json")
+    cell = "friction=0.4,pole_radius=0.12"
+    base, raised = script["controllers"](record, cell, [0.0, 8.0])
+    spec = record["settings"]["controllers"]["open_loop_tuned"]
+    assert base.env_id == spec["env_id"] and base.env_kwargs["friction"] == 0.4
+    assert base.env_kwargs == {**spec["env_kwargs"], "friction": 0.4, "pole_radius": 0.12}
+    assert raised.env_kwargs["squeeze"] - base.env_kwargs["squeeze"] == pytest.approx(0.008)
+    margin = read_json(ROOT / "experiments" / "robust_tuning" / "squeeze_margin.json")
+    assert list(margin["cells"]) == script["cells_to_play"](record)
+    for key, row in margin["cells"].items():
+        theirs = record["cells"][key]["controllers"]["open_loop_tuned"]["climb_per_gait_cycle_m"]
+        n = margin["episodes"]
+        assert row["+0 mm"]["climb_per_gait_cycle_m"]["values"] == theirs["values"][:n], key

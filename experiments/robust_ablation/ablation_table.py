@@ -40,6 +40,21 @@ def arm_row(record: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+SHORT = {
+    "pole_radius": "pole",
+    "friction": "mu",
+    "spring_stiffness": "k",
+    "control_latency": "delay",
+}
+
+
+def short(cell: str) -> str:
+    """A cell's key as a tick label: short axis names, one condition per line."""
+    for name, abbreviation in SHORT.items():
+        cell = cell.replace(f"{name}=", f"{abbreviation} ")
+    return cell.replace(",", "\n").replace("_", " ")
+
+
 def plot_arms(document: dict[str, Any], path: Path) -> None:
     """Success per arm (rows) and cell (columns), with the rate written in each square."""
     import matplotlib
@@ -55,7 +70,7 @@ def plot_arms(document: dict[str, Any], path: Path) -> None:
     for (row, col), value in np.ndenumerate(grid):
         ax.text(col, row, f"{100 * value:.0f}", ha="center", va="center", fontsize=7,
                 color="white" if value < 0.5 else "black")  # fmt: skip
-    ax.set_xticks(range(len(cells)), [c.replace(",", "\n") for c in cells], fontsize=6)
+    ax.set_xticks(range(len(cells)), [short(c) for c in cells], fontsize=6)
     ax.set_yticks(range(len(arms)), arms, fontsize=8)
     ax.set_title("robust residual ablation: success rate per cell (%)", fontsize=9)
     fig.tight_layout()

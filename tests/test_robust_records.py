@@ -69,6 +69,22 @@ def test_ablation_rows_are_the_records_scores(records: dict) -> None:
         )
 
 
+def test_ablation_arm_over_seeds_is_the_mean_of_its_seeds(tmp_path: Path, records: dict) -> None:
+    """An arm given two records (ARM= twice) is summarised over them: means, each seed's
+    success and falling cells; the figure has a row per seed."""
+    main = _script("robust_ablation", "ablation_table.py")["main"]
+    plot = tmp_path / "arms.png"
+    document = main([f"arm={V1}", f"arm={V2}", f"one={V1}", "--plot", str(plot)])
+    arm, one = document["arms"]["arm"], document["arms"]["one"]
+    assert arm["seeds"] == 2 and one["seeds"] == 1 and plot.is_file()
+    rows = arm["per_seed"]
+    assert arm["success"] == pytest.approx((rows[0]["success"] + rows[1]["success"]) / 2)
+    assert arm["success_per_seed"] == [rows[0]["success"], rows[1]["success"]]
+    assert arm["cells_falling_per_seed"][0] == one["cells_falling_per_seed"][0]
+    slips = [row["nominal_slip_per_m"] for row in rows]
+    assert arm["nominal_slip_per_m"] == pytest.approx(sum(slips) / 2)
+
+
 def test_ablation_table_refuses_arms_of_other_cells(tmp_path: Path, records: dict) -> None:
     main = _script("robust_ablation", "ablation_table.py")["main"]
     fewer = copy.deepcopy(records["v1"])

@@ -3,10 +3,12 @@ side, as a table and a heat map of success per arm and cell.
 
 ``python experiments/robust_ablation/ablation_table.py ARM=RECORD ... [--json PATH] [--plot PNG]``
 
-Each record holds one arm's policy (one change to the robust recipe) and its task's analytic
-controllers on the same cells and reset seeds. Per arm: the share of successful episodes over
-the cells and over the held-out ones, the cells where it falls more often than the best analytic
-controller, and its climb and slip per metre at the nominal condition.
+Each record holds one arm's policy (one change to the robust recipe, one training seed) and its
+task's analytic controllers on the same cells and reset seeds; an arm given several records (the
+same ``ARM=`` again) is summarised over its training seeds. Per arm: the share of successful
+episodes over the cells and over the held-out ones (mean over seeds, and each seed's), the cells
+where a seed falls more often than the best analytic controller, and the climb and slip per
+metre at the nominal condition (mean over seeds).
 """
 
 from __future__ import annotations
@@ -55,16 +57,40 @@ def short(cell: str) -> str:
     return cell.replace(",", "\n").replace("_", " ")
 
 
+def arm_summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """One arm over its training seeds (:func:`arm_row` each, in the order given)."""
+
+    def mean(key: str) -> float | None:
+        values = [row[key] for row in rows]
+        return None if None in values else float(np.mean(values))
+
+    return {
+        "seeds": len(rows),
+        "success": mean("success"),
+        "success_per_seed": [row["success"] for row in rows],
+        "success_held_out": mean("success_held_out"),
+        "cells_falling_per_seed": [row["cells_falling_more_than_best_analytic"] for row in rows],
+        "nominal_climb_per_gait_cycle_m": mean("nominal_climb_per_gait_cycle_m"),
+        "nominal_slip_per_m": mean("nominal_slip_per_m"),
+        "per_seed": rows,
+    }
+
+
 def plot_arms(document: dict[str, Any], path: Path) -> None:
-    """Success per arm (rows) and cell (columns), with the rate written in each square."""
+    """Success per arm and training seed (rows) and cell (columns), the rate in each square."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    arms = list(document["arms"])
-    cells = list(document["arms"][arms[0]]["success_per_cell"])
-    grid = np.array([[document["arms"][a]["success_per_cell"][c] for c in cells] for a in arms])
+    rows = [
+        (name if arm["seeds"] == 1 else f"{name} #{i + 1}", row)
+        for name, arm in document["arms"].items()
+        for i, row in enumerate(arm["per_seed"])
+    ]
+    arms = [name for name, _ in rows]
+    cells = list(rows[0][1]["success_per_cell"])
+    grid = np.array([[row["success_per_cell"][c] for c in cells] for _, row in rows])
     fig, ax = plt.subplots(figsize=(1.0 + 0.75 * len(cells), 1.2 + 0.45 * len(arms)))
     ax.imshow(grid, vmin=0.0, vmax=1.0, cmap="viridis", aspect="auto")
     for (row, col), value in np.ndenumerate(grid):
@@ -83,34 +109,36 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser.add_argument("arms", nargs="+", metavar="ARM=RECORD", help="an arm and its record")
     parser.add_argument("--plot", type=Path, help="the heat map of success per arm and cell")
     args = parser.parse_args(argv)
-    records: dict[str, dict[str, Any]] = {}
+    records: dict[str, list[dict[str, Any]]] = {}
     for item in args.arms:
         name, _, path = item.partition("=")
         if not name or not path:
             parser.error(f"arms are ARM=RECORD, not {item!r}")
-        records[name] = read_json(path)
-    first = next(iter(records.values()))
-    for name, record in records.items():
+        records.setdefault(name, []).append(read_json(path))
+    first = next(iter(records.values()))[0]
+    for name, record in ((n, r) for n, rs in records.items() for r in rs):
         if list(record["cells"]) != list(first["cells"]):
             parser.error(f"{name}'s record has other cells than the first arm's")
         if record["settings"]["seeds"] != first["settings"]["seeds"]:
             parser.error(f"{name}'s record played other seeds than the first arm's")
     document = {"seeds": first["settings"]["seeds"], "arms": {}}
-    for name, record in records.items():
-        document["arms"][name] = arm_row(record)
+    for name, arm in records.items():
+        document["arms"][name] = arm_summary([arm_row(record) for record in arm])
     write_output(args.json, document)  # the record first: a closed pipe loses nothing
     if args.plot is not None:
         plot_arms(document, args.plot)
         print(f"wrote {args.plot}")
     print(
-        "arm: success (held out) | cells falling more than the best analytic | nominal climb, slip"
+        "arm (seeds): success (held out) | cells falling more than the best analytic, per seed | "
+        "nominal climb, slip"
     )
     for name, row in document["arms"].items():
         held = row["success_held_out"]
         climb, slip = row["nominal_climb_per_gait_cycle_m"], row["nominal_slip_per_m"]
+        falls = ", ".join(str(len(cells)) for cells in row["cells_falling_per_seed"])
         print(
-            f"{name}: {row['success']:.2f} ({'-' if held is None else f'{held:.2f}'}) | "
-            f"{len(row['cells_falling_more_than_best_analytic'])} | "
+            f"{name} ({row['seeds']}): {row['success']:.2f} "
+            f"({'-' if held is None else f'{held:.2f}'}) | {falls} | "
             f"{'-' if climb is None else f'{100 * climb:.2f} cm'}, "
             f"{'-' if slip is None else f'{slip:.3f}'}"
         )

@@ -235,3 +235,40 @@ def test_grip_slip_counts_the_trials_in_the_controller_alone_target_region(
             script["main"]([*argv, "--json", str(tmp_path / "x.json")])
         assert f"argument {option}: no study" in capsys.readouterr().err
     assert not (tmp_path / "x.json").exists()
+
+
+def test_physics_stages_reads_mujocos_own_timers_of_the_steps_played() -> None:
+    """benchmarks/physics_stages.py: the stages' times are those of the env steps played (30
+    physics steps each), the reset's left out; the sub-stages fit in their stage."""
+    script = runpy.run_path(str(ROOT / "benchmarks" / "physics_stages.py"))
+    out = script["stage_times"]("acl_env/ACLClimb-v3", 2)
+    assert out["physics_steps"] == 2 * 30
+    stages = {name: row["share"] for name, row in out["stages"].items()}
+    assert stages["mjTIMER_STEP"] == pytest.approx(1.0)
+    parts = ("POSITION", "VELOCITY", "ACTUATION", "CONSTRAINT", "ADVANCE")
+    assert 0.5 < sum(stages[f"mjTIMER_{p}"] for p in parts) <= 1.0
+    inner = ("KINEMATICS", "INERTIA", "COLLISION", "MAKE")
+    assert sum(stages[f"mjTIMER_POS_{p}"] for p in inner) <= stages["mjTIMER_POSITION"]
+
+
+def test_speed_page_stage_table_is_the_record() -> None:
+    """docs/speed.md's shares of MuJoCo's step are docs/physics_stages.json's, rounded."""
+    record = json.loads((ROOT / "docs" / "physics_stages.json").read_text())
+    share = {name[len("mjTIMER_") :]: row["share"] for name, row in record["stages"].items()}
+    page = (ROOT / "docs" / "speed.md").read_text()
+    rows = {
+        "constraint solver (Newton, elliptic cone)": share["CONSTRAINT"],
+        "position: collision": share["POS_COLLISION"],
+        "position: kinematics, inertia, constraint rows": share["POS_KINEMATICS"]
+        + share["POS_INERTIA"]
+        + share["POS_MAKE"],
+        "integrator (`implicitfast`)": share["ADVANCE"],
+        "velocity and actuation": share["VELOCITY"] + share["ACTUATION"],
+    }
+    for what, value in rows.items():
+        assert f"| {what} | {100 * value:.0f} % |" in page, what
+    text = " ".join(page.split())
+    assert (
+        f"about {record['contacts']} contacts ({record['constraint_rows']} constraint rows)" in text
+    )
+    assert f"({record['solver_iterations_last']} at the last step)" in text

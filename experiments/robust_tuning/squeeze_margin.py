@@ -83,8 +83,20 @@ def plot(document: dict[str, Any], path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = make_parser(__doc__, plot=True, episodes=5, workers=2, progress=True)
-    parser.add_argument("--offsets-mm", type=float, nargs="+", default=[0.0, 4.0, 8.0, 12.0, 16.0])
-    parser.add_argument("--record", type=Path, default=Path("docs/benchmark_sea.json"))
+    parser.add_argument(
+        "--offsets-mm",
+        type=float,
+        nargs="+",
+        default=[0.0, 4.0, 8.0, 12.0, 16.0],
+        help="squeeze added to the tuned gait's, in mm (default %(default)s)",
+    )
+    parser.add_argument(
+        "--record",
+        type=Path,
+        default=Path("docs/benchmark_sea.json"),
+        help="the ACLClimb-v3 benchmark record whose cells and tuned gait to play "
+        "(default %(default)s)",
+    )
     args = parser.parse_args(argv)
     record = read_json(args.record)
     if record["settings"]["task"] != "acl_env/ACLClimb-v3":

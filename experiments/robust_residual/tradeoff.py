@@ -124,7 +124,9 @@ def plot(document: dict[str, Any], path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = make_parser(__doc__, plot=True)
-    parser.add_argument("records", nargs="+", metavar="NAME=RECORD")
+    parser.add_argument(
+        "records", nargs="+", metavar="NAME=RECORD", help="acl-benchmark records, each named"
+    )
     parser.add_argument(
         "--specialist",
         default="policy:acl_climb_sea_ppo",

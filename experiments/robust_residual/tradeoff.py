@@ -1,6 +1,7 @@
-"""What holding the whole grid costs at the nominal condition: every controller of several
-``acl-benchmark`` records, its success over the cells they share against its climb and slip in
-their nominal cell.
+"""What holding the whole grid costs at the nominal condition, controller by controller.
+
+Every controller of several ``acl-benchmark`` records: its success over the cells they share,
+against its climb and slip in their nominal cell.
 
 ``python experiments/robust_residual/tradeoff.py NAME=RECORD ... [--json PATH] [--plot PNG]``
 
@@ -130,7 +131,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser.add_argument(
         "--specialist",
         default="policy:acl_climb_sea_ppo",
-        help="the controller whose nominal climb the dashed line is 0.97x of",
+        help="the controller whose nominal climb and slip the dashed lines take 0.97x and 1.15x of",
     )
     args = parser.parse_args(argv)
     pairs = [text.split("=", 1) for text in args.records]

@@ -1,5 +1,6 @@
-"""The robust residual's ablation: each arm's ``acl-benchmark`` record of the same cells, side by
-side, as a table and a heat map of success per arm and cell.
+"""The robust residual's ablation, arm by arm: a table and a heat map of success per cell.
+
+Each arm's ``acl-benchmark`` records of the same cells, side by side.
 
 ``python experiments/robust_ablation/ablation_table.py ARM=RECORD ... [--json PATH] [--plot PNG]``
 

@@ -1,5 +1,7 @@
-"""How much squeeze the nominal tuned gait lacks off the nominal condition: ``acl_sea`` open loop
-with its squeeze raised by a few millimetres, in the cells of the SEA grid where it falls.
+"""How much squeeze the nominal tuned gait lacks where it falls off the nominal condition.
+
+``acl_sea`` open loop with its squeeze raised by a few millimetres, in the cells of the SEA grid
+where it falls.
 
 ``python experiments/robust_tuning/squeeze_margin.py [--offsets-mm 0 4 8 12 16]
 [--record docs/benchmark_sea.json] [--episodes 5] [--workers 2] [--json PATH] [--plot PATH]``

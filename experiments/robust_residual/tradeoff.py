@@ -6,9 +6,9 @@ against its climb and slip in their nominal cell.
 ``python experiments/robust_residual/tradeoff.py NAME=RECORD ... [--json PATH] [--plot PNG]``
 
 Each record's policies and analytic controllers become points named ``NAME: label``. A
-controller that two records play alike (the paper's gait, the rolling helix: the same episodes
-in every record of the same seeds) is kept once, under the first record's name. The records must
-share their reset seeds and nominal cell.
+controller that two records play alike (the same name and the same episodes in every cell they
+share: the paper's gait, the rolling helix) is kept once, under the first record's name. The
+records must share their reset seeds and nominal cell.
 """
 
 from __future__ import annotations
@@ -28,18 +28,22 @@ def points(records: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
     first = next(iter(records.values()))
     shared = [k for k in first["cells"] if all(k in r["cells"] for r in records.values())]
     out: list[dict[str, Any]] = []
-    seen: set[tuple[float, ...]] = set()
+    kept: dict[str, list[dict[str, Any]]] = {}  # controller -> the records it was kept from
     for name, record in records.items():
         if record["settings"]["seeds"] != first["settings"]["seeds"]:
             raise ValueError(f"{name} played other seeds than the first record")
         policies, analytic = controllers_of(record)
         for controller in [*policies, *analytic]:
-            nominal = record["cells"]["nominal"]["controllers"][controller]
-            climbs = tuple(nominal["climb_per_gait_cycle_m"]["values"])
-            if climbs in seen:  # the same episodes as a controller already kept
+            results = [record["cells"][k]["controllers"][controller] for k in shared]
+            if any(
+                results == [other["cells"][k]["controllers"][controller] for k in shared]
+                for other in kept.get(controller, [])
+            ):  # the same episodes in every shared cell as one already kept
                 continue
-            seen.add(climbs)
-            rates = [record["cells"][k]["controllers"][controller]["success_rate"] for k in shared]
+            kept.setdefault(controller, []).append(record)
+            nominal = record["cells"]["nominal"]["controllers"][controller]
+            climbs = nominal["climb_per_gait_cycle_m"]["values"]
+            rates = [result["success_rate"] for result in results]
             out.append(
                 {
                     "record": name,

@@ -131,3 +131,20 @@ def test_squeeze_margin_offsets_the_records_tuned_gait_and_replays_it_at_zero() 
         theirs = record["cells"][key]["controllers"]["open_loop_tuned"]["climb_per_gait_cycle_m"]
         n = margin["episodes"]
         assert row["+0 mm"]["climb_per_gait_cycle_m"]["values"] == theirs["values"][:n], key
+
+
+def test_modulation_grid_claims_are_its_record() -> None:
+    """experiments/robust_modulation's grid answer, as docs/benchmark.md gives it: no fall off the
+    0.12 m trunk, success 0.94, and the 3 cells where it falls more often than the best analytic
+    controller all on the trunk."""
+    record = read_json(ROOT / "experiments" / "robust_modulation" / "benchmark.json")
+    ((policy, limits),) = record["summary"]["limits"].items()
+    cells = record["cells"].items()
+    rates = {key: cell["controllers"][policy]["success_rate"] for key, cell in cells}
+    off_trunk = [rate for key, rate in rates.items() if "pole_radius=0.12" not in key]
+    assert len(off_trunk) == 48 and min(off_trunk) == 1.0
+    falling = limits["cells_falling_more_than_best_analytic"]
+    assert len(falling) == 3 and all("pole_radius=0.12" in key for key in falling)
+    assert f"{sum(rates.values()) / len(rates):.2f}" == "0.94"
+    page = (ROOT / "docs" / "benchmark.md").read_text()
+    assert "success 0.94" in page and "helix in 3 cells" in page.replace("\n", " ")

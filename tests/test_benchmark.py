@@ -207,6 +207,33 @@ def test_reuse_takes_the_analytic_controllers_a_record_played_alike(
     assert "open_loop_tuned" not in bench.reusable(made["settings"], other)
 
 
+def test_reuse_sets_aside_the_kwargs_that_only_add_observations(record: dict) -> None:
+    """An analytic controller played with ``privileged_obs`` or ``obs_history`` (a task whose
+    observation has the privileged block, ACLClimbRobust-v3's) is reused from a record that played
+    it without: the env's steps, rewards and infos are the same with them, on a slippery pole
+    with a friction step, late commands and the compliant grip."""
+    import gymnasium as gym
+
+    conditions = {"friction": 0.4, "control_latency": 0.2, "friction_step": 0.5}
+    plain = gym.make(acl_env.ACL_CLIMB_COMPLIANT_ID, **conditions)
+    observed = gym.make(
+        acl_env.ACL_CLIMB_COMPLIANT_ID, privileged_obs=True, obs_history=2, **conditions
+    )
+    rng = np.random.default_rng(1)
+    for env in (plain, observed):
+        env.reset(seed=5)
+    for _ in range(120):
+        action = rng.uniform(-1, 1, plain.action_space.shape).astype(np.float32)
+        (short, *rest), (long, *theirs) = plain.step(action), observed.step(action)
+        assert rest == theirs
+        np.testing.assert_array_equal(short, long[: len(short)])
+    wanted = copy.deepcopy(record["settings"])
+    for spec in wanted["controllers"].values():
+        spec["env_kwargs"]["privileged_obs"] = True
+    assert bench.reusable(wanted, record) == bench.reusable(record["settings"], record)
+    assert bench.reusable(wanted, record)
+
+
 def test_reuse_of_an_unreadable_record_names_the_option(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

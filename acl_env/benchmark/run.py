@@ -22,7 +22,7 @@ from acl_env.benchmark.grid import Cell, Grid
 from acl_env.evaluation.baselines import AT_POLICY_CADENCE, DEFAULT_TUNED_GAITS, build_controllers
 from acl_env.evaluation.protocol import Episode
 from acl_env.evaluation.runner import evaluate, policies_controllers
-from acl_env.evaluation.tasks import shown_path
+from acl_env.evaluation.tasks import OBSERVATION_ONLY_KWARGS, shown_path
 from acl_env.io import jsonable, read_json, write_json
 
 FORMAT = "acl_env.benchmark/1"
@@ -86,7 +86,8 @@ def run_cell(
 def reusable(wanted: dict[str, Any], other: dict[str, Any]) -> list[str]:
     """The analytic controllers whose results ``other`` (a record) holds as a run with settings
     ``wanted`` would play them: the same seeds and fixed conditions, and the same env and
-    keyword arguments, whichever task's record it is (a controller is its env and arguments).
+    keyword arguments, whichever task's record it is (a controller is its env and arguments;
+    those that only add observations aside).
     Not those at the policies' cadence, which is the policies' own. Episodes are deterministic
     in their seed, so a cell of ``other`` with the same conditions is what playing them again
     would give."""
@@ -98,8 +99,18 @@ def reusable(wanted: dict[str, Any], other: dict[str, Any]) -> list[str]:
     return [
         name
         for name, spec in wanted["controllers"].items()
-        if name not in AT_POLICY_CADENCE and theirs.get("controllers", {}).get(name) == spec
+        if name not in AT_POLICY_CADENCE
+        and _plays(theirs.get("controllers", {}).get(name)) == _plays(spec)
     ]
+
+
+def _plays(spec: dict[str, Any] | None) -> dict[str, Any] | None:
+    """What an analytic controller's results depend on: its record's entry less the env kwargs
+    that only add observations, which an open loop does not read."""
+    if spec is None:
+        return None
+    kwargs = {k: v for k, v in spec["env_kwargs"].items() if k not in OBSERVATION_ONLY_KWARGS}
+    return {**spec, "env_kwargs": kwargs}
 
 
 def controller_table(policies: Sequence[Path], tuned_path: Path) -> dict[str, dict[str, Any]]:

@@ -18,6 +18,9 @@ from acl_env.pretrained import PolicySource
 
 # Training-only env kwargs that evaluation drops from the policy's config.
 TRAINING_ONLY_KWARGS = ("domain_randomization",)
+# Env kwargs that only add entries to the observation (for a critic, or stacked readings): the
+# physics, rewards and infos, and so what an open loop achieves, are the same without them.
+OBSERVATION_ONLY_KWARGS = ("privileged_obs", "obs_history")
 
 
 @dataclass(frozen=True)

@@ -770,6 +770,7 @@ def test_every_registered_task_has_its_baselines() -> None:
         "acl_env/ACLClimbNoRollCompliant-v1": "acl_noroll_sea",
         "acl_env/ACLClimbRobust-v1": "acl_sea_robust",
         "acl_env/ACLClimbRobust-v2": "acl_sea_robust_climb",
+        "acl_env/ACLClimbRobust-v3": "acl_sea_robust",
         "acl_env/ACLClimbCompliantRobust-v1": "acl_sea_robust",
         "acl_env/ACLClimbCompliantRobust-v2": "acl_sea_robust_climb",
     }

@@ -119,3 +119,42 @@ def test_an_old_id_is_its_new_id_step_for_step(old_id: str) -> None:
         action = rng.uniform(-1.0, 1.0, size=old.action_space.shape).astype(np.float32)
         a, b = old.step(action), new.step(action)
         assert np.array_equal(a[0], b[0]) and a[1:4] == b[1:4]
+
+
+def test_robust_v3_is_v1_with_the_privileged_block_and_an_asymmetric_critic() -> None:
+    """ACLClimbRobust-v3 steps as ACLClimbRobust-v1 with ``privileged_obs=True``, bit for bit,
+    under domain randomisation; its recipe is v1's with the asymmetric critic and 1M steps, so
+    that a run on v1 with those arguments (experiments/robust_ablation's asymmetric critic arm)
+    trained v3's recipe and exports as v3's."""
+    from acl_env.evaluation.tasks import most_specific_task
+
+    v1, v3 = acl_env.ACL_CLIMB_ROBUST_ID, acl_env.ACL_CLIMB_ROBUST_V3_ID
+    recipe = _recipe()
+    new, old = dict(recipe[v3]), dict(recipe[v1])
+    assert (new.pop("policy"), old.pop("policy")) == (
+        "acl_env.training.networks.AsymmetricCriticPolicy",
+        "MlpPolicy",
+    )
+    assert (new.pop("n_timesteps"), old.pop("n_timesteps")) == (1e6, 3e6)
+    assert new == old
+    randomization = recipe[v1]["env_kwargs"]["domain_randomization"]
+    envs = [
+        gym.make(v3, domain_randomization=randomization),
+        gym.make(v1, privileged_obs=True, domain_randomization=randomization),
+    ]
+    assert envs[0].observation_space == envs[1].observation_space
+    rng = np.random.default_rng(0)
+    for seed in (3, 4):
+        obs = [env.reset(seed=seed)[0] for env in envs]
+        np.testing.assert_array_equal(obs[0], obs[1])
+        for _ in range(40):
+            action = rng.uniform(-1, 1, envs[0].action_space.shape).astype(np.float32)
+            steps = [env.step(action) for env in envs]
+            np.testing.assert_array_equal(steps[0][0], steps[1][0])
+            assert steps[0][1:4] == steps[1][1:4]
+    dr = {"domain_randomization": randomization}
+    assert most_specific_task(v1, {"privileged_obs": True, **dr}) == (v3, dr)
+    assert most_specific_task(v1, dr) == (v1, dr)
+    # An argument that undoes one of v1's defaults keeps v1's name.
+    wider = {"privileged_obs": True, "residual_scale": 0.16}
+    assert most_specific_task(v1, wider) == (v1, wider)

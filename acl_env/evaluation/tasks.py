@@ -214,3 +214,12 @@ def on_benchmark_id(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[
         if all(k in env_kwargs and env_kwargs[k] == v for k, v in implied.items()):
             return benchmark, {k: v for k, v in env_kwargs.items() if k not in implied}
     return env_id, dict(env_kwargs)
+
+
+def most_specific_task(env_id: str, env_kwargs: dict[str, Any]) -> tuple[str, dict[str, Any]]:
+    """The most specific registered task that ``env_id`` with ``env_kwargs`` is, and the kwargs
+    left over: a benchmark id whose defaults are the id's and some of the kwargs
+    (ACLClimbRobust-v1 with ``privileged_obs=True`` is ACLClimbRobust-v3), else
+    :func:`on_benchmark_id`'s answer (kwargs that undo one of the id's defaults keep its id)."""
+    found = on_benchmark_id(*spelled_on_base(env_id, env_kwargs))
+    return found if found[0] in BENCHMARK_BASES else on_benchmark_id(env_id, env_kwargs)

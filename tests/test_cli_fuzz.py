@@ -182,7 +182,7 @@ EXPORT = [
     (["{tmp}/missing", "{tmp}/out", "--name", "x"], "sb3_folder"),
     (["{sb3}", "{tmp}/out", "--name", "x", "--record", "{tmp}/no.json"], "--record"),
     (["{sb3}", "{tmp}/out"], "--name"),
-    (["{pretrained}", "{tmp}/out", "--name", "x", "--trust-pickles"], "sb3_folder"),
+    (["{tmp}", "{tmp}/out", "--name", "x", "--trust-pickles"], "sb3_folder"),
     (["{sb3}", "{tmp}/out", "--name", "x", "--bogus"], "--bogus"),
 ]
 

@@ -344,7 +344,38 @@ def test_the_exporter_command_line(
     metadata = json.loads((out / "policy.json").read_text())
     assert metadata["name"] == "seed1" and metadata["evaluation"]["record"].endswith(record.name)
     assert metadata["training"]["command"].startswith("acl-train ")
+    (tmp_path / "empty").mkdir()
     with pytest.raises(SystemExit) as exit_info:
-        export.main([str(out), str(tmp_path / "again"), "--name", "x"])
+        export.main([str(tmp_path / "empty"), str(tmp_path / "again"), "--name", "x"])
     assert exit_info.value.code == 2
     assert not (tmp_path / "again").exists()
+
+
+def test_an_exported_policy_reexports_under_its_tasks_own_id(tmp_path: Path) -> None:
+    """An exported folder given to the exporter is copied under the most specific registered id
+    its task has: the asymmetric critic arm, exported on ACLClimbRobust-v1 with
+    ``privileged_obs=True``, is ACLClimbRobust-v3's at its defaults, with the same weights and the
+    same actions there."""
+    source = ROOT / "experiments" / "robust_ablation" / "asymmetric_critic"
+    out = export.main([str(source), str(tmp_path / "v3"), "--name", "seed0"])
+    before, after = (json.loads((f / "policy.json").read_text()) for f in (source, out))
+    assert (before["env_id"], before["env_kwargs"]["privileged_obs"]) == (
+        acl_env.ACL_CLIMB_ROBUST_ID,
+        True,
+    )
+    assert after["env_id"] == acl_env.ACL_CLIMB_ROBUST_V3_ID and after["name"] == "seed0"
+    assert after["env_kwargs"] == {
+        "domain_randomization": before["env_kwargs"]["domain_randomization"]
+    }
+    assert {k: v for k, v in after.items() if k not in ("name", "env_id", "env_kwargs")} == {
+        k: v for k, v in before.items() if k not in ("name", "env_id", "env_kwargs")
+    }
+    assert (out / "policy.npz").read_bytes() == (source / "policy.npz").read_bytes()
+    env = gym.make(acl_env.ACL_CLIMB_ROBUST_V3_ID)
+    old, new = pretrained.load_policy(source), pretrained.load_policy(out)
+    new.check_spaces(env)
+    obs, _ = env.reset(seed=0)
+    for _ in range(5):
+        action = new(obs)
+        np.testing.assert_array_equal(action, old(obs))
+        obs, *_ = env.step(action)

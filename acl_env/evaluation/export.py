@@ -8,6 +8,11 @@ pickle-free ``vecnormalize.npz``), which can run code: the command needs ``--tru
 like every other that loads one, so that converting a folder is never a way around the opt-in.
 Export the folders you made or trust; the exported folder is then safe to share.
 
+Given an exported folder instead, it copies it under the new name and the most specific
+registered task its id and kwargs spell (:func:`reexport`): a policy exported before its task had
+an id of its own (ACLClimbRobust-v1 with ``privileged_obs=True``, now ACLClimbRobust-v3) is then
+that id's, at its defaults. The weights are copied byte for byte; nothing is unpickled.
+
 Writes ``policy.npz`` (the actor's weights, float32, and VecNormalize's observation statistics)
 and ``policy.json`` (env id and training env kwargs, network, action bounds, the training recipe,
 steps, wall time and command, and a summary of the published evaluation ``--record``), each
@@ -28,7 +33,7 @@ import numpy as np
 
 from acl_env import cli
 from acl_env.evaluation.records import evaluation_summary
-from acl_env.evaluation.tasks import on_benchmark_id
+from acl_env.evaluation.tasks import most_specific_task
 from acl_env.io import atomic_write, console_script, read_json, write_json
 from acl_env.pretrained import FORMAT, METADATA_FILE, WEIGHTS_FILE
 from acl_env.training.policy import PolicyFolder, read_sb3_folder
@@ -144,8 +149,9 @@ def export_policy(
     if folder.vecnormalize is not None:
         arrays |= normalization_arrays(folder.vecnormalize, trust_pickles)
     space = model.action_space
-    # The registered id whose defaults are the task it was trained on, where there is one.
-    env_id, env_kwargs = on_benchmark_id(folder.env_id, folder.env_kwargs)
+    # The most specific registered id whose defaults are the task it was trained on, where there
+    # is one: a run on ACLClimbRobust-v1 with privileged_obs=True is ACLClimbRobust-v3's.
+    env_id, env_kwargs = most_specific_task(folder.env_id, folder.env_kwargs)
     sizes = {"observation": model.observation_space.shape, "action": space.shape}
     observation_names, action_names = entry_names(env_id, env_kwargs, sizes, folder.path)
     metadata = {
@@ -177,6 +183,23 @@ def export_policy(
     np.savez(buffer, **arrays)
     atomic_write(out / WEIGHTS_FILE, buffer.getvalue())
     write_json(out / METADATA_FILE, metadata)  # last: it marks the folder as pretrained
+    return out
+
+
+def reexport(source: str | Path, out_folder: str | Path, name: str) -> Path:
+    """Copy the exported policy at ``source`` into ``out_folder`` as ``name``, its task named by
+    :func:`~acl_env.evaluation.tasks.most_specific_task` (the weights byte for byte); return it.
+    ``ValueError`` naming the file when it is not an exported policy."""
+    source = Path(source)
+    metadata = read_json(source / METADATA_FILE)
+    if metadata.get("format") != FORMAT:
+        raise ValueError(f"{source / METADATA_FILE}: not an exported policy ({FORMAT})")
+    env_id, env_kwargs = most_specific_task(metadata["env_id"], metadata["env_kwargs"])
+    out = Path(out_folder)
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write(out / WEIGHTS_FILE, (source / WEIGHTS_FILE).read_bytes())
+    renamed = {**metadata, "name": name, "env_id": env_id, "env_kwargs": env_kwargs}
+    write_json(out / METADATA_FILE, renamed)  # last: it marks the folder as pretrained
     return out
 
 
@@ -219,7 +242,11 @@ def main(argv: Sequence[str] | None = None) -> Path:
         prog="python -m acl_env.evaluation.export",
         description="Export an SB3 policy folder as a pickle-free pretrained one (npz + JSON).",
     )
-    parser.add_argument("sb3_folder", type=cli.existing_dir, help="SB3 run or policy folder")
+    parser.add_argument(
+        "sb3_folder",
+        type=cli.existing_dir,
+        help="SB3 run or policy folder, or an exported one (copied under its task's newest name)",
+    )
     parser.add_argument(
         "out_folder",
         type=cli.output_folder,
@@ -232,6 +259,13 @@ def main(argv: Sequence[str] | None = None) -> Path:
     args: argparse.Namespace = parser.parse_args(argv)
     if args.record is not None and not args.record.is_file():
         parser.error(f"argument --record: {args.record} is not a file")
+    if (args.sb3_folder / METADATA_FILE).is_file():
+        try:
+            out = reexport(args.sb3_folder, args.out_folder, args.name)
+        except (ValueError, KeyError) as error:
+            parser.error(f"argument sb3_folder: {error}")
+        print(f"{out / WEIGHTS_FILE}\n{out / METADATA_FILE}")
+        return out
     try:
         out = export_policy(
             args.sb3_folder,

@@ -80,14 +80,21 @@ def test_benchmark_id_steps_as_its_base_with_the_recipes_kwargs(task: str, base:
     envs = [gym.make(task), gym.make(base, **kwargs)]
     assert envs[0].action_space == envs[1].action_space
     assert envs[0].observation_space == envs[1].observation_space
+    _assert_step_alike(envs, seeds=(3,), steps=15)
+
+
+def _assert_step_alike(envs: list[gym.Env], seeds: tuple[int, ...], steps: int) -> None:
+    """The two envs, reset with each seed and given the same random actions, step alike: the
+    same observations, rewards, terminations and infos, bit for bit."""
     rng = np.random.default_rng(0)
-    obs = [env.reset(seed=3)[0] for env in envs]
-    np.testing.assert_array_equal(obs[0], obs[1])
-    for _ in range(15):
-        action = rng.uniform(-1, 1, envs[0].action_space.shape).astype(np.float32)
-        steps = [env.step(action) for env in envs]
-        np.testing.assert_array_equal(steps[0][0], steps[1][0])
-        assert steps[0][1:4] == steps[1][1:4]
+    for seed in seeds:
+        obs = [env.reset(seed=seed)[0] for env in envs]
+        np.testing.assert_array_equal(obs[0], obs[1])
+        for _ in range(steps):
+            action = rng.uniform(-1, 1, envs[0].action_space.shape).astype(np.float32)
+            results = [env.step(action) for env in envs]
+            np.testing.assert_array_equal(results[0][0], results[1][0])
+            assert results[0][1:4] == results[1][1:4]
 
 
 def test_the_paper_default_gait_env_stays_registered() -> None:
@@ -143,15 +150,7 @@ def test_robust_v3_is_v1_with_the_privileged_block_and_an_asymmetric_critic() ->
         gym.make(v1, privileged_obs=True, domain_randomization=randomization),
     ]
     assert envs[0].observation_space == envs[1].observation_space
-    rng = np.random.default_rng(0)
-    for seed in (3, 4):
-        obs = [env.reset(seed=seed)[0] for env in envs]
-        np.testing.assert_array_equal(obs[0], obs[1])
-        for _ in range(40):
-            action = rng.uniform(-1, 1, envs[0].action_space.shape).astype(np.float32)
-            steps = [env.step(action) for env in envs]
-            np.testing.assert_array_equal(steps[0][0], steps[1][0])
-            assert steps[0][1:4] == steps[1][1:4]
+    _assert_step_alike(envs, seeds=(3, 4), steps=40)
     dr = {"domain_randomization": randomization}
     assert most_specific_task(v1, {"privileged_obs": True, **dr}) == (v3, dr)
     assert most_specific_task(v1, dr) == (v1, dr)

@@ -148,3 +148,31 @@ def test_modulation_grid_claims_are_its_record() -> None:
     assert f"{sum(rates.values()) / len(rates):.2f}" == "0.94"
     page = (ROOT / "docs" / "benchmark.md").read_text()
     assert "success 0.94" in page and "helix in 3 cells" in page.replace("\n", " ")
+
+
+def test_seeds_against_pairs_the_seeds_mean_cell_by_cell(records: dict) -> None:
+    """experiments/robust_residual/seeds_against.py: per score, the median over the cells where
+    nothing falls of the seeds' mean over the controller's; another record's policies join as
+    ``other:<name>``; records of other reset seeds are refused."""
+    script = _script("robust_residual", "seeds_against.py")
+    seeds = read_json(ROOT / "experiments/robust_ablation/benchmark_asymmetric_critic_grid.json")
+    merged = script["merge"](seeds, records["v1"])
+    names = list(merged["cells"]["nominal"]["controllers"])
+    assert "other:policy:acl_climb_robust_ppo_seed0" in names
+    assert "other:open_loop_tuned" not in names  # the other's analytic controllers stay out
+    policies = [n for n in names if n.startswith("policy:")]
+    other = "other:policy:acl_climb_robust_ppo_seed0"
+    found = script["seed_ratios"](merged, policies, other)["climb_per_gait_cycle_m"]
+    by_hand = []
+    for cell in merged["cells"].values():
+        results = cell["controllers"]
+        if all(results[n]["falls"] == 0 for n in [*policies, other]):
+            mine = sum(results[p]["climb_per_gait_cycle_m"]["mean"] for p in policies)
+            by_hand.append(mine / len(policies) / results[other]["climb_per_gait_cycle_m"]["mean"])
+    assert found["cells"] == len(by_hand) == 57  # v1's residual falls at friction 0.4 on the trunk
+    assert found["median"] == pytest.approx(sorted(by_hand)[len(by_hand) // 2])
+    assert found["higher"] == sum(v > 1.0 for v in by_hand)
+    fewer = copy.deepcopy(records["v1"])
+    fewer["settings"]["seeds"] = fewer["settings"]["seeds"][:-1]
+    with pytest.raises(ValueError, match="other reset seeds"):
+        script["merge"](seeds, fewer)

@@ -62,15 +62,17 @@ def recipe_seeds(shipped: str) -> list[str]:
     return [shipped] + [f"experiments/training_seeds/{shipped}_seed{s}" for s in range(1, 5)]
 
 
-def benchmark_record(name: str, policies: list[str]) -> Record:
+def benchmark_record(name: str, policies: list[str], reuse: str = "") -> Record:
     """``acl-benchmark`` of ``policies`` into ``docs/<name>.json`` and its figures (the heat maps
     of each score and the performance profiles). An unfinished record resumes; one made with
-    other settings (by code whose controllers play otherwise) is made again."""
+    other settings (by code whose controllers play otherwise) is made again. ``reuse``: a record
+    listed before this one whose analytic controllers it takes (``--reuse``)."""
     scores = ("success_rate", "climb_per_gait_cycle_m", "slip_per_m", "energy_per_m", "profiles")
     return Record(
         (f"docs/{name}.json", *(f"docs/{name}_{score}.png" for score in scores)),
         f"acl-benchmark --policy {' '.join(policies)}"
-        f" --json docs/{name}.json --plots docs/{name}.png --remake",
+        f" --json docs/{name}.json --plots docs/{name}.png --remake"
+        + (f" --reuse {reuse}" if reuse else ""),
     )
 
 
@@ -124,6 +126,12 @@ RECORDS: dict[str, Record] = {
     ),
     "benchmark_robust_v2": benchmark_record(
         "benchmark_robust_v2", ["experiments/training_seeds/acl_climb_robust_v2_ppo_seed0"]
+    ),
+    # ACLClimbRobust-v3's recipe over its five training seeds (experiments/training_seeds).
+    "benchmark_robust_v3": benchmark_record(
+        "benchmark_robust_v3",
+        [f"experiments/training_seeds/acl_climb_robust_v3_ppo_seed{s}" for s in range(5)],
+        reuse="docs/benchmark_robust.json",  # v1's physics: its analytic controllers' results
     ),
     "eval_noroll_compliant": Record(
         ("docs/eval_noroll_compliant.json",),

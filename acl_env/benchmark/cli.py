@@ -84,7 +84,7 @@ def make_parser() -> cli.ArgumentParser:
         metavar="RECORD",
         help="an acl-benchmark record on the same seeds (another recipe's, an ablation arm's, "
         "another task's on the same grid): the analytic controllers it played alike (the same "
-        "env and arguments; not those at the policies' "
+        "env and arguments, privileged_obs and obs_history aside; not those at the policies' "
         "cadence) are taken from its cells instead of played again; each such cell says so "
         "under 'reused'",
     )

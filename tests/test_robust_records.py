@@ -154,6 +154,8 @@ def test_seeds_against_pairs_the_seeds_mean_cell_by_cell(records: dict) -> None:
     """experiments/robust_residual/seeds_against.py: per score, the median over the cells where
     nothing falls of the seeds' mean over the controller's; another record's policies join as
     ``other:<name>``; records of other reset seeds are refused."""
+    from acl_env.benchmark.summary import ratios_where_held
+
     script = _script("robust_residual", "seeds_against.py")
     seeds = read_json(ROOT / "experiments/robust_ablation/benchmark_asymmetric_critic_grid.json")
     merged = script["merge"](seeds, records["v1"])
@@ -162,7 +164,7 @@ def test_seeds_against_pairs_the_seeds_mean_cell_by_cell(records: dict) -> None:
     assert "other:open_loop_tuned" not in names  # the other's analytic controllers stay out
     policies = [n for n in names if n.startswith("policy:")]
     other = "other:policy:acl_climb_robust_ppo_seed0"
-    found = script["seed_ratios"](merged, policies, other)["climb_per_gait_cycle_m"]
+    found = ratios_where_held(merged, policies, other, script["SCORES"])["climb_per_gait_cycle_m"]
     by_hand = []
     for cell in merged["cells"].values():
         results = cell["controllers"]

@@ -116,3 +116,30 @@ def limits(record: dict[str, Any]) -> dict[str, Any]:
             "cells_every_analytic_loses_held": hard_held,
         }
     return out
+
+
+def ratios_where_held(
+    record: dict[str, Any], policies: list[str], controller: str, scores: tuple[str, ...]
+) -> dict[str, Any]:
+    """Per score, the median over cells of the policies' mean over ``controller``'s cell mean,
+    and in how many cells it is above 1, over the cells where neither a policy nor ``controller``
+    falls in any episode (a fall's climb is negative: no ratio)."""
+    held = [
+        cell["controllers"]
+        for cell in record["cells"].values()
+        if all(cell["controllers"][name]["falls"] == 0 for name in [*policies, controller])
+    ]
+    out: dict[str, Any] = {}
+    for score in scores:
+        values = [
+            np.mean([results[p][score]["mean"] for p in policies])
+            / results[controller][score]["mean"]
+            for results in held
+            if all(results[name][score]["mean"] is not None for name in [*policies, controller])
+        ]
+        out[score] = {
+            "median": float(np.median(values)),
+            "higher": int(sum(v > 1.0 for v in values)),
+            "cells": len(values),
+        }
+    return out

@@ -14,9 +14,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
-from acl_env.benchmark.summary import controllers_of, limits
+from acl_env.benchmark.summary import controllers_of, limits, ratios_where_held
 from acl_env.io import guarded_output, read_json
 from acl_env.scripts import make_parser, write_output
 
@@ -53,31 +51,6 @@ def alike(one: dict[str, Any], other: dict[str, Any], controller: str) -> bool:
     )
 
 
-def ratios(record: dict[str, Any], policy: str, controller: str) -> dict[str, Any]:
-    """Per score, the median over cells of the policy's cell mean over ``controller``'s, over the
-    cells where neither falls in any episode (a fall's climb is negative: no ratio)."""
-    held = [
-        cell["controllers"]
-        for cell in record["cells"].values()
-        if cell["controllers"][policy]["falls"] == 0
-        and cell["controllers"][controller]["falls"] == 0
-    ]
-    out: dict[str, Any] = {}
-    for score in SCORES:
-        values = [
-            results[policy][score]["mean"] / results[controller][score]["mean"]
-            for results in held
-            if results[policy][score]["mean"] is not None
-            and results[controller][score]["mean"] is not None
-        ]
-        out[score] = {
-            "median": float(np.median(values)),
-            "higher": int(sum(v > 1.0 for v in values)),
-            "cells": len(values),
-        }
-    return out
-
-
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = make_parser(__doc__)
     parser.add_argument("v1", help="acl-benchmark record of ACLClimbRobust-v1's policy")
@@ -90,7 +63,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     result = {
         "analytic": analytic,
         "limits": limits(merged),
-        "v2_over_v1": ratios(merged, policies[1], policies[0]),
+        "v2_over_v1": ratios_where_held(merged, policies[1:], policies[0], SCORES),
     }
     write_output(args.json, result)  # the record first: a closed pipe loses nothing
     for policy, found in result["limits"].items():

@@ -14,9 +14,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
-from acl_env.benchmark.summary import controllers_of
+from acl_env.benchmark.summary import controllers_of, ratios_where_held
 from acl_env.io import guarded_output, read_json
 from acl_env.scripts import make_parser, write_output
 
@@ -41,29 +39,6 @@ def merge(seeds: dict[str, Any], other: dict[str, Any]) -> dict[str, Any]:
     return {"cells": cells}
 
 
-def seed_ratios(record: dict[str, Any], seeds: list[str], controller: str) -> dict[str, Any]:
-    """Per score, the median over cells of the seeds' mean over ``controller``'s cell mean."""
-    held = [
-        cell["controllers"]
-        for cell in record["cells"].values()
-        if all(cell["controllers"][name]["falls"] == 0 for name in [*seeds, controller])
-    ]
-    out: dict[str, Any] = {}
-    for score in SCORES:
-        values = [
-            np.mean([results[seed][score]["mean"] for seed in seeds])
-            / results[controller][score]["mean"]
-            for results in held
-            if all(results[name][score]["mean"] is not None for name in [*seeds, controller])
-        ]
-        out[score] = {
-            "median": float(np.median(values)),
-            "higher": int(sum(v > 1.0 for v in values)),
-            "cells": len(values),
-        }
-    return out
-
-
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = make_parser(__doc__)
     parser.add_argument("seeds", help="acl-benchmark record of one recipe's training seeds")
@@ -78,7 +53,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     names = list(merged["cells"]["nominal"]["controllers"])
     result = {
         "seeds": seeds,
-        "against": {name: seed_ratios(merged, seeds, name) for name in names if name not in seeds},
+        "against": {
+            name: ratios_where_held(merged, seeds, name, SCORES)
+            for name in names
+            if name not in seeds
+        },
     }
     write_output(args.json, result)  # the record first: a closed pipe loses nothing
     for name, scores in result["against"].items():

@@ -371,6 +371,9 @@ def test_an_exported_policy_reexports_under_its_tasks_own_id(tmp_path: Path) -> 
         k: v for k, v in before.items() if k not in ("name", "env_id", "env_kwargs")
     }
     assert (out / "policy.npz").read_bytes() == (source / "policy.npz").read_bytes()
+    with pytest.raises(SystemExit):  # an exported folder has no run to summarise or date
+        export.main([str(source), str(tmp_path / "x"), "--name", "x", "--commit", "abc"])
+    assert not (tmp_path / "x").exists()
     env = gym.make(acl_env.ACL_CLIMB_ROBUST_V3_ID)
     old, new = pretrained.load_policy(source), pretrained.load_policy(out)
     new.check_spaces(env)

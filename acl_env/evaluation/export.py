@@ -260,6 +260,9 @@ def main(argv: Sequence[str] | None = None) -> Path:
     if args.record is not None and not args.record.is_file():
         parser.error(f"argument --record: {args.record} is not a file")
     if (args.sb3_folder / METADATA_FILE).is_file():
+        for given, option in ((args.record, "--record"), (args.commit, "--commit")):
+            if given is not None:
+                parser.error(f"argument {option}: only for an SB3 folder, not an exported one")
         try:
             out = reexport(args.sb3_folder, args.out_folder, args.name)
         except (ValueError, KeyError) as error:

@@ -28,13 +28,10 @@ def merge(seeds: dict[str, Any], other: dict[str, Any]) -> dict[str, Any]:
         raise ValueError("the records played other reset seeds")
     if list(other["cells"]) != list(seeds["cells"]):
         raise ValueError("the records have other cells")
+    policies = controllers_of(other)[0]
     cells = {}
     for key, cell in seeds["cells"].items():
-        theirs = {
-            f"other:{n}": r
-            for n, r in other["cells"][key]["controllers"].items()
-            if n in controllers_of(other)[0]
-        }
+        theirs = {f"other:{n}": other["cells"][key]["controllers"][n] for n in policies}
         cells[key] = {**cell, "controllers": {**cell["controllers"], **theirs}}
     return {"cells": cells}
 

@@ -11,12 +11,7 @@ from gymnasium import spaces
 from gymnasium.envs.mujoco import MujocoEnv
 from gymnasium.utils import EzPickle
 
-from acl_env.constants import (
-    IMU_GYRO_SENSOR,
-    IMU_QUAT_SENSOR,
-    JOINT_LIMIT,
-    SCENE_FILE,
-)
+from acl_env.constants import IMU_GYRO_SENSOR, IMU_QUAT_SENSOR, JOINT_LIMIT, SCENE_FILE
 from acl_env.envs import modulation, termination
 from acl_env.envs import observations as layouts
 from acl_env.envs.arguments import ARGUMENTS, signature
@@ -173,20 +168,23 @@ class ACLClimbEnv(LifecycleMixin, MujocoPickleMixin, MujocoEnv, EzPickle):
         self._friction_step = None
         if drop is not None or drawn is not None:
             self._friction_step = FrictionStep(drop or 0.0, elements, drawn)
-        self._root_body = elements.snake_bodies[0]
-        # Views into MjData made once: each attribute access of MjData builds a new array view.
-        data = self.data
-        self._com_view = data.subtree_com[self._root_body]
+        self._bind_views(elements.snake_bodies[0])
+        self._table = self._gait_table()
+        self._offset_tables = self._gait_offset_tables(physics.pole_radius)
+        self._step_count, self._k0, self._com_start = 0, 0, 0.0
+        self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
+
+    def _bind_views(self, root_body: int) -> None:
+        """Views into MjData made once: each attribute access of MjData builds a new array view."""
+        n, data = self.n_joints, self.data
+        self._root_body = root_body
+        self._com_view = data.subtree_com[root_body]
         self._stability = termination.Stability(data)
         self._body_roll = termination.BodyRoll(self.model, data, n + 1)
         self._roll = termination.RollSpan.begin(np.zeros(n + 1))  # set by each reset
         self._imu_view = sensor_indices(self.model, IMU_QUAT_SENSOR, IMU_GYRO_SENSOR)
         self._noise_std = np.zeros(3 * n)  # per observed joint quantity; set by each reset
-        self._history = layouts.ReadingHistory(config.episode.obs_history, n)
-        self._table = self._gait_table()
-        self._offset_tables = self._gait_offset_tables(physics.pole_radius)
-        self._step_count, self._k0, self._com_start = 0, 0, 0.0
-        self._keyframe = 0.0  # gait phase in keyframes, advanced by the phase rate each step
+        self._history = layouts.ReadingHistory(self.config.episode.obs_history, n)
 
     def _initialize_simulation(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
         physics = self.config.physics

@@ -177,12 +177,18 @@ def export_policy(
             "numpy": np.__version__,
         },
     }
-    out = Path(out_folder)
-    out.mkdir(parents=True, exist_ok=True)
     buffer = io.BytesIO()
     np.savez(buffer, **arrays)
-    atomic_write(out / WEIGHTS_FILE, buffer.getvalue())
-    write_json(out / METADATA_FILE, metadata)  # last: it marks the folder as pretrained
+    return write_export(out_folder, buffer.getvalue(), metadata)
+
+
+def write_export(out_folder: str | Path, weights: bytes, metadata: dict[str, Any]) -> Path:
+    """Write the weights, then the metadata (last: it marks the folder as an exported policy),
+    into ``out_folder``, made if missing; return it."""
+    out = Path(out_folder)
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write(out / WEIGHTS_FILE, weights)
+    write_json(out / METADATA_FILE, metadata)
     return out
 
 
@@ -195,12 +201,8 @@ def reexport(source: str | Path, out_folder: str | Path, name: str) -> Path:
     if metadata.get("format") != FORMAT:
         raise ValueError(f"{source / METADATA_FILE}: not an exported policy ({FORMAT})")
     env_id, env_kwargs = most_specific_task(metadata["env_id"], metadata["env_kwargs"])
-    out = Path(out_folder)
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write(out / WEIGHTS_FILE, (source / WEIGHTS_FILE).read_bytes())
     renamed = {**metadata, "name": name, "env_id": env_id, "env_kwargs": env_kwargs}
-    write_json(out / METADATA_FILE, renamed)  # last: it marks the folder as pretrained
-    return out
+    return write_export(out_folder, (source / WEIGHTS_FILE).read_bytes(), renamed)
 
 
 def entry_names(

@@ -85,6 +85,23 @@ def test_ablation_arm_over_seeds_is_the_mean_of_its_seeds(tmp_path: Path, record
     assert arm["nominal_slip_per_m"] == pytest.approx(sum(slips) / 2)
 
 
+def test_ablation_rows_name_their_policys_training_seed(
+    records: dict, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """The seed comes from the exported policy's policy.json (paths in a record are the clone's),
+    and labels the arm's row in the figure; unknown, the row's place among the arm's records."""
+    script = _script("robust_ablation", "ablation_table.py")
+    monkeypatch.chdir(ROOT)
+    for record in records.values():
+        (folder,) = record["settings"]["policies"]
+        seed = read_json(ROOT / folder / "policy.json")["training"]["seed"]
+        row = script["arm_row"](record)
+        assert row["training_seed"] == seed and script["seed_label"](row, 3) == f"seed {seed}"
+    monkeypatch.chdir(tmp_path)  # the exported folders are not here
+    row = script["arm_row"](records["v1"])
+    assert row["training_seed"] is None and script["seed_label"](row, 3) == "#4"
+
+
 def test_ablation_table_refuses_arms_of_other_cells(tmp_path: Path, records: dict) -> None:
     main = _script("robust_ablation", "ablation_table.py")["main"]
     fewer = copy.deepcopy(records["v1"])

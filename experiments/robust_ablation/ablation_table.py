@@ -32,6 +32,7 @@ def arm_row(record: dict[str, Any]) -> dict[str, Any]:
     held = [rates[key] for key, cell in cells.items() if cell["held_out"]]
     nominal = cells["nominal"]["controllers"][policy] if "nominal" in cells else None
     return {
+        "training_seed": training_seed(record),
         "success_per_cell": rates,
         "success": float(np.mean(list(rates.values()))),
         "success_held_out": float(np.mean(held)) if held else None,
@@ -41,6 +42,15 @@ def arm_row(record: dict[str, Any]) -> dict[str, Any]:
         "nominal_climb_per_gait_cycle_m": nominal and nominal["climb_per_gait_cycle_m"]["mean"],
         "nominal_slip_per_m": nominal and nominal["slip_per_m"]["mean"],
     }
+
+
+def training_seed(record: dict[str, Any]) -> int | None:
+    """The training seed of the record's policy, from its exported folder's ``policy.json``
+    (None where the folder is not here, or did not record one)."""
+    metadata = Path(record["settings"]["policies"][0]) / "policy.json"
+    if not metadata.is_file():
+        return None
+    return (read_json(metadata).get("training") or {}).get("seed")
 
 
 SHORT = {
@@ -77,6 +87,12 @@ def arm_summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
+def seed_label(row: dict[str, Any], index: int) -> str:
+    """A row's training seed, or its place among the arm's records where the seed is unknown."""
+    seed = row.get("training_seed")
+    return f"#{index + 1}" if seed is None else f"seed {seed}"
+
+
 def plot_arms(document: dict[str, Any], path: Path) -> None:
     """Success per arm and training seed (rows) and cell (columns), the rate in each square."""
     import matplotlib
@@ -85,7 +101,7 @@ def plot_arms(document: dict[str, Any], path: Path) -> None:
     import matplotlib.pyplot as plt
 
     rows = [
-        (name if arm["seeds"] == 1 else f"{name} #{i + 1}", row)
+        (name if arm["seeds"] == 1 else f"{name}, {seed_label(row, i)}", row)
         for name, arm in document["arms"].items()
         for i, row in enumerate(arm["per_seed"])
     ]

@@ -108,3 +108,39 @@ def test_every_sb3_run_keeps_its_policy_as_a_pretrained_folder(run: Path) -> Non
     evaluation = policy.metadata.get("evaluation")
     if evaluation is not None:
         assert (ROOT / evaluation["record"]).is_file(), evaluation["record"]
+
+
+def _fake_run(run_dir: Path, task: str, seed: int, steps: int | None, total: int) -> Path:
+    """A run folder as acl-train leaves it: its recipe, and a summary when it has one."""
+    run = run_dir / f"{task.replace('/', '_')}__seed__{seed}__20261128-000000"
+    run.mkdir(parents=True)
+    (run / "config.yml").write_text(f"{task}:\n  n_timesteps: !!float {total}\n")
+    if steps is not None:
+        (run / "summary.json").write_text(f'{{"total_steps": {steps}}}')
+    return run
+
+
+def test_train_seeds_takes_each_seed_one_step_further(tmp_path: Path) -> None:
+    """Not started: start; cut short (no summary, or fewer steps): resume; finished: export,
+    once; a compliant recipe waits for its SEA run, then starts warm from it."""
+    import runpy
+
+    script = runpy.run_path(str(EXPERIMENTS / "training_seeds" / "train_seeds.py"))
+    step = script["next_command"]
+    task = "acl_env/ACLClimbNoRoll-v5"
+    start = step("noroll_sea", 7, tmp_path)
+    assert start[start.index("--env") + 1] == task and start[start.index("--seed") + 1] == "7"
+    assert step("noroll_compliant", 7, tmp_path) is None  # waits for its SEA run
+    run = _fake_run(tmp_path, task, 7, None, 3e6)
+    assert step("noroll_sea", 7, tmp_path)[-3:] == ["--resume", str(run), "--trust-pickles"]
+    (run / "summary.json").write_text('{"total_steps": 1000000}')
+    assert "--resume" in step("noroll_sea", 7, tmp_path)
+    assert step("noroll_compliant", 7, tmp_path) is None
+    (run / "summary.json").write_text('{"total_steps": 3000320}')
+    export = step("noroll_sea", 7, tmp_path)
+    assert export[1:4] == ["-m", "acl_env.evaluation.export", str(run)]
+    assert export[4].endswith("training_seeds/acl_climb_noroll_sea_ppo_seed7")
+    warm = step("noroll_compliant", 7, tmp_path)
+    assert warm[warm.index("--init-from") + 1] == str(run)
+    # a seed whose export is in the tree is done, with or without its run here
+    assert step("sea", 1, tmp_path) is None  # experiments/training_seeds/acl_climb_sea_ppo_seed1

@@ -144,3 +144,16 @@ def test_train_seeds_takes_each_seed_one_step_further(tmp_path: Path) -> None:
     assert warm[warm.index("--init-from") + 1] == str(run)
     # a seed whose export is in the tree is done, with or without its run here
     assert step("sea", 1, tmp_path) is None  # experiments/training_seeds/acl_climb_sea_ppo_seed1
+
+
+def test_train_seeds_stops_when_a_command_changes_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import runpy
+
+    script = runpy.run_path(str(EXPERIMENTS / "training_seeds" / "train_seeds.py"))
+    ran = []
+    monkeypatch.setattr(subprocess, "run", lambda command, check: ran.append(command))
+    with pytest.raises(SystemExit, match="no progress"):
+        script["main"](["--recipes", "noroll_sea", "--seeds", "7", "--run-dir", str(tmp_path)])
+    assert len(ran) == 1 and "--env" in ran[0]

@@ -91,15 +91,19 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--dry-run", action="store_true", help="print the next command, run none")
     args = parser.parse_args(argv)
     recipes = [r for r in RECIPES if r in args.recipes]  # a warm start's base first
+    last = None
     while True:
         commands = (next_command(r, s, args.run_dir) for r in recipes for s in args.seeds)
         command = next((c for c in commands if c is not None), None)
         if command is None:
             return
+        if command == last:  # it ran and changed nothing: stop rather than loop
+            raise SystemExit(f"no progress from: {' '.join(command)}")
         print(" ".join(command), flush=True)
         if args.dry_run:
             return
         subprocess.run(command, check=True)
+        last = command
 
 
 if __name__ == "__main__":

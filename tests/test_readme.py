@@ -280,3 +280,23 @@ def test_readme_robust_sentence_is_the_record() -> None:
     climb, slip = (ratios[m]["median"] for m in ("climb_per_gait_cycle_m", "slip_per_m"))
     assert f"climbs {climb:.2f}x as far as v1's at the median cell" in text
     assert f"but slides {slip:.2f}x as much" in text
+
+
+def test_readme_past_the_grid_sentence_is_the_record() -> None:
+    """"Past the grid, at friction 0.35 on the trunk, every v3 seed always falls where its
+    compliant controller climbs" (experiments/robust_residual/beyond_grid)."""
+    from acl_env.io import read_json
+
+    text = " ".join((ROOT / "README.md").read_text().split())
+    assert "at friction 0.35 on the trunk, every v3 seed always falls where its compliant" in text
+    record = read_json(ROOT / "experiments/robust_residual/beyond_grid/v3_friction0.35_trunk.json")
+    assert record["env_kwargs"]["compliant_acl"]["friction"] == 0.35
+    assert record["env_kwargs"]["compliant_acl"]["pole_radius"] == 0.12
+    controllers = record["controllers"]
+    policies = [name for name in controllers if name.startswith("policy:")]
+    assert len(policies) == 5 and all("robust_v3" in name for name in policies)
+    for name in policies:
+        assert controllers[name]["falls"]["count"] == controllers[name]["episodes"] == 10
+    for name in ("compliant_acl", "compliant_acl_same_cadence"):
+        assert controllers[name]["falls"]["count"] == 0
+        assert min(controllers[name]["climb_per_gait_cycle_m"]["values"]) > 0

@@ -283,7 +283,7 @@ def test_readme_robust_sentence_is_the_record() -> None:
 
 
 def test_readme_past_the_grid_sentence_is_the_record() -> None:
-    """"Past the grid, at friction 0.35 on the trunk, every v3 seed always falls where its
+    """ "Past the grid, at friction 0.35 on the trunk, every v3 seed always falls where its
     compliant controller climbs" (experiments/robust_residual/beyond_grid)."""
     from acl_env.io import read_json
 

@@ -283,8 +283,8 @@ def test_readme_robust_sentence_is_the_record() -> None:
 
 
 def test_readme_past_the_grid_sentence_is_the_record() -> None:
-    """ "Past the grid, at friction 0.35 on the trunk, every v3 seed always falls where its
-    compliant controller climbs" (experiments/robust_residual/beyond_grid)."""
+    """The README's sentence on the grid's edge: at friction 0.35 on the trunk every seed of v3
+    falls in every episode, its compliant controller in none (experiments/robust_residual)."""
     from acl_env.io import read_json
 
     text = " ".join((ROOT / "README.md").read_text().split())

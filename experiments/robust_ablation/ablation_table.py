@@ -21,6 +21,7 @@ import numpy as np
 
 from acl_env.benchmark.summary import controllers_of, limits
 from acl_env.io import guarded_output, read_json
+from acl_env.pretrained import is_pretrained, read_metadata
 from acl_env.scripts import make_parser, write_output
 
 
@@ -47,10 +48,10 @@ def arm_row(record: dict[str, Any]) -> dict[str, Any]:
 def training_seed(record: dict[str, Any]) -> int | None:
     """The training seed of the record's policy, from its exported folder's ``policy.json``
     (None where the folder is not here, or did not record one)."""
-    metadata = Path(record["settings"]["policies"][0]) / "policy.json"
-    if not metadata.is_file():
+    folder = Path(record["settings"]["policies"][0])
+    if not is_pretrained(folder):
         return None
-    return (read_json(metadata).get("training") or {}).get("seed")
+    return (read_metadata(folder).get("training") or {}).get("seed")
 
 
 SHORT = {

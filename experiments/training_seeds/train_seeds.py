@@ -24,6 +24,8 @@ from pathlib import Path
 import yaml
 
 from acl_env.io import read_json
+from acl_env.pretrained import is_pretrained
+from acl_env.training.runs import CONFIG_FILE, SUMMARY_FILE
 
 ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "experiments" / "training_seeds"
@@ -52,10 +54,10 @@ def run_folder(run_dir: Path, recipe: str, seed: int) -> Path | None:
 
 def is_finished(run: Path) -> bool:
     """Whether the run has trained all the steps of its recipe (its ``config.yml``)."""
-    summary = run / "summary.json"
+    summary = run / SUMMARY_FILE
     if not summary.is_file():
         return False
-    (hyperparams,) = yaml.safe_load((run / "config.yml").read_text()).values()
+    (hyperparams,) = yaml.safe_load((run / CONFIG_FILE).read_text()).values()
     return int(read_json(summary).get("total_steps", 0)) >= int(float(hyperparams["n_timesteps"]))
 
 
@@ -64,7 +66,7 @@ def next_command(recipe: str, seed: int, run_dir: Path) -> list[str] | None:
     or waiting for the run it is warm-started from)."""
     task, policy, base = RECIPES[recipe]
     out = OUT / f"{policy}_seed{seed}"
-    if (out / "policy.json").is_file():
+    if is_pretrained(out):
         return None
     run = run_folder(run_dir, recipe, seed)
     train = [sys.executable, str(ROOT / "train" / "train_ppo.py"), "--no-progress-bar"]

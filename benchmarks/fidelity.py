@@ -31,7 +31,7 @@ import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
-from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, actuators
 from acl_env.constants import FIDELITY_TOLERANCES, PHYSICS_TIMESTEP
 from acl_env.envs import termination
 from acl_env.evaluation import run_episode
@@ -107,12 +107,12 @@ RESIDUAL_SEED = 12345  # the random residual sequence is the same under every se
 
 
 def actuator_kwargs(kwargs: dict[str, Any], actuator_model: str) -> dict[str, Any]:
-    """A condition's env kwargs on ``actuator_model`` (the servo's ``kp`` as the SEA's spring)."""
-    if actuator_model == "servo":
-        return dict(kwargs)
-    out = {k: v for k, v in kwargs.items() if k != "kp"}
-    if "kp" in kwargs:
-        out["spring_stiffness"] = kwargs["kp"]
+    """A condition's env kwargs on ``actuator_model``: its stiffness (the servo's ``kp``, stated
+    by the conditions) passed as the model's own stiffness option (the SEA's spring)."""
+    stiffness = actuators.actuator_model("servo").stiffness
+    out = {k: v for k, v in kwargs.items() if k != stiffness}
+    if stiffness in kwargs:
+        out[actuators.actuator_model(actuator_model).stiffness] = kwargs[stiffness]
     return {**out, "actuator_model": actuator_model}
 
 

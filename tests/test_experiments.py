@@ -131,6 +131,8 @@ def test_train_seeds_takes_each_seed_one_step_further(tmp_path: Path) -> None:
     start = step("noroll_sea", 7, tmp_path)
     assert start[start.index("--env") + 1] == task and start[start.index("--seed") + 1] == "7"
     assert step("noroll_compliant", 7, tmp_path) is None  # waits for its SEA run
+    (why,) = script["waiting"](["noroll_sea", "noroll_compliant"], [7], tmp_path)
+    assert why.startswith("noroll_compliant seed 7 waits for a finished noroll_sea run")
     run = _fake_run(tmp_path, task, 7, None, 3e6)
     assert step("noroll_sea", 7, tmp_path)[-3:] == ["--resume", str(run), "--trust-pickles"]
     (run / "summary.json").write_text('{"total_steps": 1000000}')

@@ -10,7 +10,8 @@ warm-started from its SEA recipe's run of the same seed, as the shipped one was)
 short is resumed from its newest checkpoint; a finished run is exported to
 ``experiments/training_seeds/<policy>_seed<S>`` (numpy, no pickles) unless it is there already.
 Stop it at any time and run it again: no step is lost. ``--dry-run`` prints the next command
-and runs nothing.
+and runs nothing. When nothing is left to run, it names the seeds still waiting for the run
+they are warm-started from: keep a SEA run's folder until its compliant seed has started.
 """
 
 from __future__ import annotations
@@ -85,6 +86,24 @@ def next_command(recipe: str, seed: int, run_dir: Path) -> list[str] | None:
     return [*export, "--name", out.name, "--trust-pickles"]
 
 
+def waiting(recipes: Sequence[str], seeds: Sequence[int], run_dir: Path) -> list[str]:
+    """Why each (recipe, seed) neither done nor runnable waits: its warm start's run is not
+    finished under ``run_dir`` (an export is not enough: it holds the actor alone, and a warm
+    start copies the critic and the normalisation statistics too)."""
+    lines = []
+    for recipe in recipes:
+        _, policy, base = RECIPES[recipe]
+        for seed in seeds:
+            if base is None or is_pretrained(OUT / f"{policy}_seed{seed}"):
+                continue
+            if run_folder(run_dir, recipe, seed) is None:
+                lines.append(
+                    f"{recipe} seed {seed} waits for a finished {base} run of seed {seed} in "
+                    f"{run_dir} (its warm start; an export holds no critic)"
+                )
+    return lines
+
+
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--recipes", nargs="+", choices=list(RECIPES), default=list(RECIPES))
@@ -98,6 +117,8 @@ def main(argv: Sequence[str] | None = None) -> None:
         commands = (next_command(r, s, args.run_dir) for r in recipes for s in args.seeds)
         command = next((c for c in commands if c is not None), None)
         if command is None:
+            for line in waiting(recipes, args.seeds, args.run_dir):
+                print(line, flush=True)
             return
         if command == last:  # it ran and changed nothing: stop rather than loop
             raise SystemExit(f"no progress from: {' '.join(command)}")

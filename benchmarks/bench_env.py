@@ -33,6 +33,7 @@ from tqdm import tqdm
 from acl_env import ACL_CLIMB_BENCHMARK_ID, ACL_CLIMB_ID, ACL_CLIMB_SEA_ID
 from acl_env.constants import PHYSICS_TIMESTEP
 from acl_env.envs.contacts import SLIP_SAMPLES
+from acl_env.io import console_script
 from acl_env.scripts import (
     make_parser,
     print_figures,
@@ -203,4 +204,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

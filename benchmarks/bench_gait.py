@@ -19,6 +19,7 @@ import numpy as np
 
 from acl_env.gait import ACLGait, Gait, RollingHelixGait
 from acl_env.gait.summary import cycle_fit_rms
+from acl_env.io import guarded_output
 
 ACL_CYCLE_BUDGET_S = 0.050
 REPEATS = 10
@@ -78,4 +79,6 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    with guarded_output():
+        status = main()
+    sys.exit(status)

@@ -27,7 +27,7 @@ from pathlib import Path
 from bench_env import env_vs_raw  # this folder's: the script's directory is on the path
 
 from acl_env import ACL_CLIMB_SEA_ID
-from acl_env.io import read_json
+from acl_env.io import console_script, read_json
 from acl_env.scripts import make_parser
 from acl_env.training import trainer
 
@@ -110,4 +110,4 @@ def cpu_row(segment: dict) -> tuple[float, ...]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -48,6 +48,7 @@ from acl_env import ACL_CLIMB_SEA_ID
 from acl_env.envs.contacts import SLIP_SAMPLES
 from acl_env.evaluation.baselines import Controller
 from acl_env.evaluation.runner import evaluate
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, write_outputs
 
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION  # qpos, qvel, act, ctrl, warm start, histories
@@ -212,4 +213,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

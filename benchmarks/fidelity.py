@@ -35,6 +35,7 @@ from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, actuators
 from acl_env.constants import FIDELITY_TOLERANCES, PHYSICS_TIMESTEP
 from acl_env.envs import termination
 from acl_env.evaluation import run_episode
+from acl_env.io import console_script
 from acl_env.model import apply_physics_options
 from acl_env.scripts import make_parser, save_figure, timed_steps, use_agg, write_outputs
 
@@ -360,4 +361,4 @@ class _Serial:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

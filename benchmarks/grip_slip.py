@@ -27,6 +27,7 @@ from tqdm import tqdm
 
 import acl_env  # noqa: F401  (registers the environments)
 from acl_env import cli, tuned_gaits
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_outputs
 
 BINS = 8  # eighths of the gait cycle
@@ -203,4 +204,4 @@ def main(argv: list[str] | None = None) -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -38,6 +38,7 @@ from acl_env.evaluation import Episode
 from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, Controller
 from acl_env.evaluation.runner import evaluate
 from acl_env.evaluation.tasks import evaluation_env_kwargs, tuned_gait
+from acl_env.io import console_script
 from acl_env.scripts import (
     RUNS,
     add_trust_pickles,
@@ -183,4 +184,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

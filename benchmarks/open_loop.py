@@ -16,6 +16,7 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID, cli
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, write_output
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
@@ -60,4 +61,4 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

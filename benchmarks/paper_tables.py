@@ -38,6 +38,7 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.io import guarded_output
 from acl_env.scripts import make_parser, save_figure, use_agg, write_output
 
 ACL_ID = ACL_CLIMB_ID
@@ -385,4 +386,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    with guarded_output():
+        status = main()
+    sys.exit(status)

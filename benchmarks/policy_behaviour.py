@@ -30,6 +30,7 @@ from acl_env.evaluation import baselines, tasks
 from acl_env.evaluation.protocol import Episode, run_episode
 from acl_env.evaluation.summary import paired_differences, summarize
 from acl_env.evaluation.tables import format_paired, format_table
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_outputs
 
 BINS = 8  # eighths of the gait cycle
@@ -227,4 +228,4 @@ def main(argv: list[str] | None = None) -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

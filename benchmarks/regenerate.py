@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from acl_env.evaluation.records import evaluation_summary
-from acl_env.io import read_json, write_json
+from acl_env.io import console_script, read_json, write_json
 from acl_env.pretrained import METADATA_FILE
 from acl_env.scripts import make_parser, write_output
 
@@ -262,4 +262,4 @@ def main(argv_: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -23,6 +23,7 @@ from acl_env import ACL_CLIMB_ID, ACL_CLIMB_NOROLL_ID, ROLLING_HELIX_CLIMB_ID, c
 from acl_env.evaluation import run_episode, zero_policy
 from acl_env.evaluation.intervals import mean_ci95
 from acl_env.evaluation.summary import PAIRED_METRICS, summarize
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 
 GAITS: dict[str, tuple[str, dict[str, Any]]] = {
@@ -107,4 +108,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -25,6 +25,7 @@ import numpy as np
 from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, ROLLING_HELIX_CLIMB_ID
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, write_output
 
 CONFIGS: list[tuple[str, dict[str, Any]]] = [
@@ -196,4 +197,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -29,6 +29,7 @@ import numpy as np
 from acl_env.actuators import sea as actuators
 from acl_env.actuators.sea_rotor import MOTOR_KP, ROTOR_INERTIA
 from acl_env.constants import JOINT_LIMIT, PEAK_TORQUE, PHYSICS_TIMESTEP
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, print_figures, save_figure, use_agg, write_outputs
 
 LOAD_MASS = 3 * 0.205  # kg: three modules
@@ -165,4 +166,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

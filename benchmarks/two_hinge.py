@@ -31,6 +31,7 @@ from acl_env.actuators.sea_rotor import MOTOR_KP, ROTOR_INERTIA
 from acl_env.constants import PEAK_TORQUE, actuator_name, joint_name, link_name
 from acl_env.envs.contacts import SLIP_SAMPLES, ContactSampler
 from acl_env.evaluation.intervals import mean_ci95
+from acl_env.io import console_script
 from acl_env.model import build_spec, snake_geom_ids
 from acl_env.scripts import make_parser, write_output
 
@@ -177,4 +178,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -112,3 +112,27 @@ def test_python_m_acl_env_writes_its_snapshot(tmp_path: Path, lines_read: int) -
     status, stderr, _ = run_into_pipe(argv, lines_read, tmp_path)
     assert status == 0 and "Traceback" not in stderr, stderr
     assert (tmp_path / "snake.png").stat().st_size > 0
+
+
+def test_every_script_of_the_repository_guards_its_streams() -> None:
+    """The scripts in benchmarks/ and experiments/ run their ``main`` with the streams guarded
+    too (``console_script`` or ``guarded_output``), as the package's commands (and train/'s,
+    above) do."""
+    scripts = [*ROOT.glob("benchmarks/*.py"), *ROOT.glob("experiments/*/*.py")]
+    guarded = 0
+    for path in sorted(scripts):
+        _, main_block = [*path.read_text().split('if __name__ == "__main__":'), ""][:2]
+        if main_block:
+            assert "console_script(" in main_block or "guarded_output()" in main_block, path
+            guarded += 1
+    assert guarded >= 30
+
+
+@pytest.mark.parametrize("lines_read", [0, 1], ids=["closed at once", "head -1"])
+def test_regenerate_list_into_a_closed_pipe(lines_read: int) -> None:
+    """``python benchmarks/regenerate.py --list | head -1``: a script's printing, guarded."""
+    argv = [PY, str(ROOT / "benchmarks" / "regenerate.py"), "--list"]
+    status, stderr, lines = run_into_pipe(argv, lines_read, ROOT)
+    assert status == 0 and "Traceback" not in stderr, stderr
+    if lines_read:
+        assert lines[0].startswith("eval ")

@@ -26,6 +26,7 @@ from acl_env.evaluation.baselines import Controller
 from acl_env.evaluation.records import controller_summary, read_record
 from acl_env.evaluation.runner import evaluate
 from acl_env.evaluation.tasks import shown_path, tuned_gait
+from acl_env.io import console_script
 from acl_env.scripts import KeyValues, make_parser, save_figure, use_agg, write_output
 from acl_env.training import config
 
@@ -177,4 +178,4 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

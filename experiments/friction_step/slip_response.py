@@ -36,6 +36,7 @@ from acl_env.evaluation.baselines import (
     build_controllers,
 )
 from acl_env.evaluation.tasks import shown_path
+from acl_env.io import console_script
 from acl_env.scripts import (
     add_trust_pickles,
     make_parser,
@@ -195,4 +196,4 @@ def plot(document: dict[str, Any], path: Path) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -43,6 +43,7 @@ from tqdm import tqdm
 from acl_env import ACL_CLIMB_NOROLL_ID, cli
 from acl_env.evaluation import mean_ci95, run_episode, zero_policy
 from acl_env.evaluation.records import controller_summary, read_record
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, save_figure, use_agg, write_outputs
 
 TARGET_RATIO = 1.5  # the project's target: the policy's climb over the tuned non-rolling open loop
@@ -250,4 +251,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

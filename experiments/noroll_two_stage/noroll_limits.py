@@ -20,6 +20,7 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_NOROLL_V2_ID, NOROLL_V2_KWARGS, cli
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, write_output
 
 TUNED_GAIT: dict[str, Any] = dict(NOROLL_V2_KWARGS["gait_kwargs"])
@@ -79,4 +80,4 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -31,6 +31,7 @@ from acl_env.evaluation.baselines import (
     build_controllers,
 )
 from acl_env.evaluation.runner import evaluate, make_pool
+from acl_env.io import console_script
 from acl_env.scripts import add_trust_pickles, make_parser, save_figure, use_agg, write_output
 from acl_env.training.checks import check_env_kwargs
 from acl_env.training.policy import read_policy_folder
@@ -224,4 +225,4 @@ def _format(row: dict, names: list[str]) -> str:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

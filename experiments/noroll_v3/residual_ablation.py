@@ -33,6 +33,7 @@ from tqdm import tqdm
 
 from acl_env.evaluation import Policy, action_recorder, mean_ci95, run_episode, zero_policy
 from acl_env.evaluation.tasks import evaluation_env_kwargs
+from acl_env.io import console_script
 from acl_env.scripts import parse_policy_args, policy_parser, save_figure, use_agg, write_outputs
 from acl_env.training.policy import load_policy, read_policy_folder
 
@@ -196,4 +197,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

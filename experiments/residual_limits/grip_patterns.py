@@ -22,6 +22,7 @@ from tqdm import tqdm
 
 from acl_env import ACL_CLIMB_ID, tuned_gaits
 from acl_env.evaluation import run_episode
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, write_output
 
 # Section offsets in units of --scale, head first: one section, the whole body, ends against
@@ -93,4 +94,4 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -18,6 +18,7 @@ from tqdm import tqdm
 from acl_env.envs import ACLClimbEnv
 from acl_env.evaluation import run_episode
 from acl_env.gait import ACLGait
+from acl_env.io import console_script
 from acl_env.scripts import make_parser
 
 Residual = Callable[[int, np.ndarray], np.ndarray]  # (keyframe, base target) -> residual, rad
@@ -79,4 +80,4 @@ def main(argv: list[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -35,6 +35,7 @@ from acl_env.evaluation.baselines import (
     build_controllers,
 )
 from acl_env.evaluation.tasks import shown_path
+from acl_env.io import console_script
 from acl_env.scripts import (
     add_trust_pickles,
     make_parser,
@@ -167,4 +168,4 @@ def plot(
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

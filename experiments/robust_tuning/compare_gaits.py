@@ -22,6 +22,7 @@ import gait_grid  # this folder's script (on the path when run as one): the cont
 import numpy as np
 
 from acl_env.evaluation.runner import make_pool, run_controllers
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, seeds, write_output
 
 # The conditions where acl_sea was seen to lose the pole, the nominal pole, the grid's thinnest
@@ -102,4 +103,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -28,7 +28,7 @@ from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, Controller, build_
 from acl_env.evaluation.runner import make_pool, run_controllers
 from acl_env.evaluation.summary import paired_differences, summarize
 from acl_env.evaluation.tasks import shown_path
-from acl_env.io import read_json, write_json
+from acl_env.io import console_script, read_json, write_json
 from acl_env.scripts import make_parser, seeds, use_agg
 from acl_env.shipped import policy_dir
 from acl_env.training.policy import read_policy_folder
@@ -175,4 +175,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

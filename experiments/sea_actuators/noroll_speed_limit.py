@@ -17,6 +17,7 @@ import numpy as np
 
 from acl_env import ACL_CLIMB_NOROLL_ID
 from acl_env.evaluation import run_episode, zero_policy
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, write_output
 
 VARIANTS: dict[str, dict[str, Any]] = {
@@ -59,4 +60,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

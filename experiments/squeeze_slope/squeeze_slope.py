@@ -26,6 +26,7 @@ from acl_env import ACL_CLIMB_NOROLL_ID
 from acl_env.evaluation import Episode
 from acl_env.evaluation.baselines import Controller
 from acl_env.evaluation.runner import evaluate
+from acl_env.io import console_script
 from acl_env.scripts import make_parser, save_figure, seeds, use_agg, write_output
 from acl_env.training.checks import check_env_kwargs
 
@@ -145,4 +146,4 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import yaml
 
-from acl_env.io import read_json
+from acl_env.io import console_script, read_json
 from acl_env.pretrained import is_pretrained
 from acl_env.training.runs import CONFIG_FILE, SUMMARY_FILE
 
@@ -130,4 +130,4 @@ def main(argv: Sequence[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    console_script(main)()

@@ -121,6 +121,11 @@ RECORDS: dict[str, Record] = {
     "benchmark_compliant": benchmark_record(
         "benchmark_compliant", recipe_seeds("acl_climb_compliant_ppo")
     ),
+    # The non-rolling SEA recipe over the training seeds it has so far (seed 0, the shipped
+    # policy, and seed 1; experiments/training_seeds says which are still training).
+    "benchmark_noroll": benchmark_record(
+        "benchmark_noroll", recipe_seeds("acl_climb_noroll_sea_ppo")[:2]
+    ),
     "benchmark_robust": benchmark_record(
         "benchmark_robust", ["experiments/training_seeds/acl_climb_robust_ppo_seed0"]
     ),

@@ -455,7 +455,10 @@ def test_benchmark_page_glance_table_is_the_records() -> None:
         return f"{min(values)}" if min(values) == max(values) else f"{min(values)}-{max(values)}"
 
     records = [
-        *(f"docs/benchmark_{task}.json" for task in ("sea", "compliant", "robust", "robust_v2")),
+        *(
+            f"docs/benchmark_{t}.json"
+            for t in ("sea", "compliant", "noroll", "robust", "robust_v2")
+        ),
         "experiments/robust_residual/benchmark_compliant_v2.json",  # an experiment's record
         "docs/benchmark_robust_v3.json",
     ]
@@ -477,3 +480,31 @@ def test_benchmark_page_glance_table_is_the_records() -> None:
         row = f"| `{task}` (`{name}.json`) | {len(policies)} | {success} | {best:.2f}, "
         assert row in page, row
         assert f"| {falls} | {held} of {reliable} |" in page.split(row)[1].splitlines()[0], name
+
+
+def test_benchmark_page_noroll_counts_are_the_records() -> None:
+    """docs/benchmark.md's non-rolling grid: the cells its open loops lose (by sliding or by
+    falling), those where every seed climbs instead, and none where an open loop does but a seed
+    does not."""
+    from acl_env.io import read_json
+
+    root = Path(__file__).resolve().parents[1]
+    record = read_json(root / "docs" / "benchmark_noroll.json")
+    page = (root / "docs" / "benchmark.md").read_text()
+    open_loops = ("open_loop_acl", "open_loop_tuned", "compliant_acl")
+    seeds = [name for name in record["labels"] if name.startswith("policy:")]
+    half = 0.5
+
+    def rate(cell: dict, name: str) -> float:
+        return cell["controllers"][name]["success_rate"]
+
+    lost = [c for c in record["cells"].values() if max(rate(c, n) for n in open_loops) < half]
+    slid = [c for c in lost if max(c["controllers"][n]["falls"] for n in open_loops) <= 5]
+    climbed = [c for c in slid if min(rate(c, n) for n in seeds) >= half]
+    assert (len(lost), len(slid), len(climbed)) == (20, 14, 5)
+    assert "In 20 cells none of the three non-rolling open loops" in page
+    assert "In 14 of them they hold on and slide down" in page
+    assert "The residual climbs in 5 of the 14" in page
+    for cell in record["cells"].values():
+        if max(rate(cell, n) for n in open_loops) >= half:
+            assert min(rate(cell, n) for n in seeds) >= half

@@ -499,7 +499,8 @@ def test_benchmark_page_noroll_counts_are_the_records() -> None:
         return cell["controllers"][name]["success_rate"]
 
     lost = [c for c in record["cells"].values() if max(rate(c, n) for n in open_loops) < half]
-    slid = [c for c in lost if max(c["controllers"][n]["falls"] for n in open_loops) <= 5]
+    most = len(record["settings"]["seeds"]) / 2  # falls in most episodes: more than this
+    slid = [c for c in lost if max(c["controllers"][n]["falls"] for n in open_loops) <= most]
     climbed = [c for c in slid if min(rate(c, n) for n in seeds) >= half]
     assert (len(lost), len(slid), len(climbed)) == (20, 14, 5)
     assert "In 20 cells none of the three non-rolling open loops" in page

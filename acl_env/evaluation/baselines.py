@@ -257,6 +257,18 @@ def _setting(
     )
 
 
+def _acl_label(at: _Setting) -> str:
+    """What ``open_loop_acl`` plays, in the reader's words: the paper's gait (LABELS' word, "")
+    on the ACL env; on another env its registered gait, which is the policy's task's gait unless
+    the policy was trained on a reshaped one (ACLClimbNoRoll-v5 plays ``acl_noroll_sea`` on
+    ``ACLClimbNoRollBase-v3``, whose gait is ``acl_noroll``): then that gait's entry names it."""
+    if at.acl_id == ACL_CLIMB_ID:
+        return ""
+    if at.other_gait == at.open_loop:
+        return "the task's gait"
+    return f"the {task_baselines(at.acl_id).tuned_key} gait"
+
+
 def build_controllers(
     folder: PolicySource | None,
     overrides: dict[str, Any],
@@ -282,8 +294,7 @@ def build_controllers(
             task_kwargs=at.task_kwargs,
         )
         controllers.append(policy)
-    acl_label = "" if at.acl_id == ACL_CLIMB_ID else "the task's gait"  # else LABELS' word
-    controllers.append(Controller("open_loop_acl", at.acl_id, at.acl_kwargs, label=acl_label))
+    controllers.append(Controller("open_loop_acl", at.acl_id, at.acl_kwargs, label=_acl_label(at)))
     if folder is not None:
         if at.sets_cadence:
             # The policy's own base gait (reshaped or not) at the policy's cadence: what the

@@ -596,6 +596,34 @@ def test_a_policy_is_judged_against_its_own_tasks_tuned_entries(tmp_path: Path) 
         assert baselines.TUNED_SAME_CADENCE not in by_name, env_id
 
 
+def test_the_paper_gait_controller_names_the_gait_it_plays(tmp_path: Path) -> None:
+    """``open_loop_acl`` plays the base task's registered gait for a non-rolling policy. On
+    ``ACLClimbNoRollServo-v1`` that is the policy's own gait ("the task's gait"); on
+    ``ACLClimbNoRoll-v5``, whose gait is ``acl_noroll_sea``, it is ``acl_noroll``, and the label
+    says so; on the SEA task it is the paper's gait (no label of its own)."""
+    import gymnasium
+
+    from acl_env import ACL_CLIMB_NOROLL_BENCHMARK_ID, ACL_CLIMB_NOROLL_SEA_ID
+    from acl_env.evaluation.baselines import DEFAULT_TUNED_GAITS, build_controllers
+    from acl_env.training.policy import PolicyFolder
+
+    expected = {
+        ACL_CLIMB_NOROLL_BENCHMARK_ID: "the task's gait",
+        ACL_CLIMB_NOROLL_SEA_ID: "the acl_noroll gait",
+        ACL_CLIMB_SEA_ID: "",
+    }
+    for env_id, label in expected.items():
+        folder = PolicyFolder(tmp_path, env_id, {"env_kwargs": {}}, tmp_path / "m.zip", None)
+        controllers, _ = build_controllers(folder, {}, None, DEFAULT_TUNED_GAITS)
+        paper = next(c for c in controllers if c.name == "open_loop_acl")
+        assert paper.label == label, env_id
+        if env_id == ACL_CLIMB_NOROLL_SEA_ID:  # what it plays is acl_noroll's shape
+            assert "gait_kwargs" not in paper.env_kwargs and "squeeze" not in paper.env_kwargs
+            registered = tuned_gaits.resolve(dict(gymnasium.spec(paper.env_id).kwargs))
+            shape = tuned_gaits.gait_shape("acl_noroll")
+            assert {k: registered[k] for k in shape} == shape
+
+
 def test_records_name_repository_files_relative_to_it(tmp_path: Path) -> None:
     """Committed evaluation JSONs must not name the folder of the machine that wrote them."""
     from acl_env.evaluation.baselines import DEFAULT_POLICY, DEFAULT_TUNED_GAITS

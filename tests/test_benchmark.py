@@ -509,3 +509,30 @@ def test_benchmark_page_noroll_counts_are_the_records() -> None:
     for cell in record["cells"].values():
         if max(rate(cell, n) for n in open_loops) >= half:
             assert min(rate(cell, n) for n in seeds) >= half
+
+
+def test_benchmark_page_success_improvement_is_ties() -> None:
+    """docs/benchmark.md's reading of the success rate's probability of improvement (ties count
+    half): on the SEA and compliant grids no seed holds more often than a cell's best analytic
+    controller, and the tie shares the page gives are the records'."""
+    from acl_env.benchmark.summary import cell_matrix, controllers_of
+    from acl_env.io import read_json
+
+    root = Path(__file__).resolve().parents[1]
+    page = (root / "docs" / "benchmark.md").read_text()
+    for task, words in (
+        ("sea", "they tie in {:.0%} of the seed-cell pairs"),
+        ("compliant", "tie in {:.0%} of the seed-cell pairs"),
+    ):
+        record = read_json(root / "docs" / f"benchmark_{task}.json")
+        policies, analytic = controllers_of(record)
+        cells = list(record["cells"])
+        best = np.max([cell_matrix(record, n, "success_rate", cells) for n in analytic], axis=0)
+        seeds = np.array([cell_matrix(record, p, "success_rate", cells) for p in policies])
+        assert not (seeds > best).any(), task
+        share = float((seeds == best).mean())
+        stored = record["summary"]["all"]["scores"]["success_rate"]["probability_of_improvement"]
+        assert stored["mean"] == pytest.approx(share / 2)  # no wins: half the ties
+        assert words.format(share).replace("%", " %") in page.replace("\n  ", " ").replace(
+            "\n", " "
+        ), task

@@ -3,9 +3,10 @@ RL at the edge of the statistical precipice*): the interquartile mean, bootstrap
 the probability of improvement, and performance profiles. SciPy computes them.
 
 ``rliable``, the paper's library, would pull in arch, pandas and seaborn; SciPy's bootstrap is
-what it builds on. Its stratified bootstrap resamples runs within each task; here the strata are
-the grid's cells, and a training seed is one policy played in every cell, so the seeds are
-resampled jointly across cells (rows of a seeds x cells matrix).
+what it builds on. rliable's stratified bootstrap resamples the runs within each task
+independently; here a training seed is one policy played in every cell, so the bootstrap is a
+plain percentile bootstrap over the seeds, each seed's row of a seeds x cells matrix resampled
+whole. The probability of improvement counts ties half (Mann-Whitney), as rliable's does.
 """
 
 from __future__ import annotations

@@ -203,6 +203,12 @@ class _Setting:
     sets_cadence: bool
     task_id: str | None  # the policy's task, under its current id (None: no policy)
 
+    @property
+    def reshaped(self) -> bool:
+        """Whether the open loop spells a gait shape of its own (``GAIT_KWARGS``), which the
+        controllers on another gait drop (``other_gait``)."""
+        return any(k in self.open_loop for k in GAIT_KWARGS)
+
 
 def _setting(
     folder: PolicySource | None, overrides: dict[str, Any], reward_weights: dict[str, float] | None
@@ -264,7 +270,7 @@ def _acl_label(at: _Setting) -> str:
     ``ACLClimbNoRollBase-v3``, whose gait is ``acl_noroll``): then that gait's entry names it."""
     if at.acl_id == ACL_CLIMB_ID:
         return ""
-    if at.other_gait == at.open_loop:
+    if not at.reshaped:
         return "the task's gait"
     return f"the {task_baselines(at.acl_id).tuned_key} gait"
 
@@ -334,7 +340,7 @@ def _tuned(
             replace(c, label=LABELS[TUNED_SAME_CADENCE]) if c.name == SAME_CADENCE else c
             for c in controllers
         ]
-    if has_policy and any(k in at.open_loop for k in GAIT_KWARGS) and not at.sets_cadence:
+    if has_policy and at.reshaped and not at.sets_cadence:
         if on_tuned:
             notes.append(f"{POLICY_GAIT}: skipped, the policy's gait is the tuned one")
         else:  # the policy's own gait, zero action: what the residual adds to it
